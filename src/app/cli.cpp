@@ -1,0 +1,97 @@
+#include "app/cli.h"
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+
+#include "app/still.h"
+#include "util/error.h"
+
+namespace radiosa {
+
+namespace {
+
+// The built-in demo: the paper's image A.
+constexpr const char* kDemoScene = "scenes/baranoski1991.yaml";
+constexpr const char* kDemoCamera = "cameras/baranoski1991-a.yaml";
+const std::vector<std::string> kDemoOutputs = {"out/baranoski1991-a.png", "out/baranoski1991-a.exr"};
+constexpr const char* kDemoReport = "out/baranoski1991-a.json";
+
+void add_render_options(CLI::App* cmd, StillJob* job, bool* quiet) {
+    cmd->add_option("scene", job->scene_path, "Scene file (YAML)")->required();
+    cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML)")->required();
+    cmd->add_option("-o,--output", job->outputs,
+                    "Output image; .png (8-bit sRGB) or .exr (linear float). Repeatable");
+    cmd->add_option("--report", job->report_path, "Write the JSON run report here");
+    cmd->add_option("--width", job->render.width, "Image width in pixels")->check(CLI::Range(1, 16384));
+    cmd->add_option("--height", job->render.height, "Image height in pixels")->check(CLI::Range(1, 16384));
+    cmd->add_option("--samples", job->render.samples, "Sub-pixel rays per axis (S x S per pixel)")
+        ->check(CLI::Range(1, 16));
+    cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    cmd->add_option("--gauss-points,-p", job->gauss_points,
+                    "Gauss-Legendre points per parameter (overrides the scene)")
+        ->check(CLI::Range(1, 64));
+    cmd->add_flag_callback("--no-visibility", [job] { job->visibility = false; },
+                           "Ignore occlusion in form factors (for comparison)");
+    cmd->add_option_function<std::string>(
+           "--solver", [job](const std::string& s) { job->solver = parse_solver_method(s); },
+           "lu (default) or gauss-jordan (the 1991 paper's method)")
+        ->check(CLI::IsMember({"lu", "gauss-jordan"}));
+    cmd->add_option("--exposure", job->exposure, "Exposure in stops for 8-bit outputs (default 0)")
+        ->check(CLI::Range(-200.0, 200.0));
+    cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");
+}
+
+std::string default_output(const StillJob& job) {
+    namespace fs = std::filesystem;
+    return (fs::path("out") / (fs::path(job.scene_path).stem().string() + "-" +
+                               fs::path(job.camera_path).stem().string() + ".png"))
+        .string();
+}
+
+}  // namespace
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+    CLI::App app{"radiosa: radiosity for curved parametric surfaces (parametric differential method)",
+                 "radiosa"};
+    app.require_subcommand(0, 1);
+    StillJob job;
+    bool quiet = false;
+    CLI::App* render = app.add_subcommand("render", "Render a still image of a scene");
+    add_render_options(render, &job, &quiet);
+
+    try {
+        try {
+            app.parse(argc, argv);
+        } catch (const CLI::CallForHelp&) {
+            out << app.help();
+            return 0;
+        } catch (const CLI::ParseError& e) {
+            if (e.get_exit_code() == 0) {  // --help on a subcommand, --version
+                out << (render->parsed() ? render->help() : app.help());
+                return 0;
+            }
+            err << "error: " << e.what() << " (see 'radiosa --help')\n";
+            return 1;
+        }
+        if (app.get_subcommands().empty()) {
+            // No arguments: the built-in demo.
+            job.scene_path = kDemoScene;
+            job.camera_path = kDemoCamera;
+            job.outputs = kDemoOutputs;
+            job.report_path = kDemoReport;
+        } else if (job.outputs.empty()) {
+            job.outputs.push_back(default_output(job));
+        }
+        const StillReport report = run_still(job);
+        if (!quiet) out << still_summary(job, report);
+        return 0;
+    } catch (const Error& e) {
+        err << "error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::exception& e) {
+        err << "error: internal failure: " << e.what() << "\n";
+        return 2;
+    }
+}
+
+}  // namespace radiosa

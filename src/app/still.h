@@ -1,0 +1,52 @@
+#pragma once
+// The still-image job: scene -> geometry -> form factors -> solve -> render -> write.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "formfactor/form_factor.h"
+#include "render/raycast.h"
+#include "solve/solver.h"
+
+namespace radiosa {
+
+struct StillJob {
+    std::string scene_path;
+    std::string camera_path;
+    std::vector<std::string> outputs;  // image files; format from each extension
+    std::optional<std::string> report_path;
+    RenderOptions render;
+    std::optional<int> gauss_points;   // overrides the scene's form_factors.gauss_points
+    std::optional<bool> visibility;    // overrides the scene's form_factors.visibility
+    SolverMethod solver = SolverMethod::LU;
+    double exposure = 0.0;             // stops; PNG value = radiosity * 2^exposure
+    int threads = 0;                   // 0 = all cores
+};
+
+struct StageTimes {
+    double load_s = 0, form_factors_s = 0, solve_s = 0, render_s = 0, write_s = 0, total_s = 0;
+};
+
+struct StillReport {
+    std::string scene_name;
+    int surfaces = 0;
+    int patches = 0;
+    bool closed = true;
+    int gauss_points = 0;
+    bool visibility = true;
+    int threads = 0;
+    FormFactorStats form_factor_stats;
+    FormFactorChecks checks;
+    std::string closure_worst_patch;  // "surface[is,it]"
+    int factorisations = 0;
+    SolveDiagnostics solve;
+    StageTimes times;
+};
+
+// Runs the job; throws Error for bad input or unwritable outputs (checked before any work).
+StillReport run_still(const StillJob& job);
+
+std::string still_report_json(const StillJob& job, const StillReport& r);
+std::string still_summary(const StillJob& job, const StillReport& r);
+
+}  // namespace radiosa

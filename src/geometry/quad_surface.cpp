@@ -1,0 +1,99 @@
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/surface.h"
+
+namespace radiosa {
+
+namespace {
+double cross2(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
+}  // namespace
+
+QuadSurface::QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& c3)
+    : m_p0(c0), m_e(c1 - c0), m_f(c3 - c0), m_g(c0 - c1 + c2 - c3) {
+    // The scene reader has checked planarity and convexity; the diagonals' cross product
+    // gives the plane normal robustly for any convex quad.
+    const Vec3 n = glm::normalize(glm::cross(c2 - c0, c3 - c1));
+    m_plane = Plane{n, glm::dot(n, 0.25 * (c0 + c1 + c2 + c3))};
+    m_u = glm::normalize(m_e);
+    m_v = glm::cross(n, m_u);
+}
+
+Vec3 QuadSurface::point(double s, double t) const { return m_p0 + s * m_e + t * m_f + s * t * m_g; }
+
+void QuadSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
+    *dPds = m_e + t * m_g;
+    *dPdt = m_f + s * m_g;
+}
+
+std::optional<std::pair<double, double>> QuadSurface::invert(const Vec3& x) const {
+    // Solve q = s e + t f + s t g in plane coordinates: eliminating s gives
+    // k2 t^2 + k1 t + k0 = 0 with k2 = g x f, k1 = q x g + e x f, k0 = q x e.
+    const Vec3 q3 = x - m_p0;
+    const double qx = glm::dot(q3, m_u), qy = glm::dot(q3, m_v);
+    const double ex = glm::dot(m_e, m_u), ey = glm::dot(m_e, m_v);
+    const double fx = glm::dot(m_f, m_u), fy = glm::dot(m_f, m_v);
+    const double gx = glm::dot(m_g, m_u), gy = glm::dot(m_g, m_v);
+    const double k2 = cross2(gx, gy, fx, fy);
+    const double k1 = cross2(qx, qy, gx, gy) + cross2(ex, ey, fx, fy);
+    const double k0 = cross2(qx, qy, ex, ey);
+    const double scale = std::abs(cross2(ex, ey, fx, fy));
+    constexpr double kEdge = 1e-12;  // accept points on the boundary despite rounding
+
+    auto finish = [&](double t) -> std::optional<std::pair<double, double>> {
+        if (!(t >= -kEdge && t <= 1.0 + kEdge)) return std::nullopt;
+        const double dx = ex + t * gx, dy = ey + t * gy;
+        const double s = ((qx - t * fx) * dx + (qy - t * fy) * dy) / (dx * dx + dy * dy);
+        if (!(s >= -kEdge && s <= 1.0 + kEdge)) return std::nullopt;
+        return std::make_pair(std::clamp(s, 0.0, 1.0), std::clamp(t, 0.0, 1.0));
+    };
+
+    if (std::abs(k2) <= 1e-14 * scale) {  // parallelogram: the map is affine
+        if (k1 == 0.0) return std::nullopt;
+        return finish(-k0 / k1);
+    }
+    double disc = k1 * k1 - 4.0 * k2 * k0;
+    if (disc < 0.0) {
+        if (disc < -1e-12 * k1 * k1) return std::nullopt;
+        disc = 0.0;
+    }
+    const double root = std::sqrt(disc);
+    const double qq = -0.5 * (k1 + std::copysign(root, k1));
+    const double t1 = qq / k2;
+    const double t2 = qq != 0.0 ? k0 / qq : t1;
+    if (auto r = finish(t1)) return r;
+    return finish(t2);
+}
+
+std::optional<SurfaceHit> QuadSurface::intersect(const Ray& ray, double t_min, double t_max,
+                                                 HitSide side) const {
+    const double denom = glm::dot(m_plane.normal, ray.dir);
+    if (denom == 0.0) return std::nullopt;  // parallel: a grazing ray sees no area
+    const bool front = denom < 0.0;
+    if (side == HitSide::FrontOnly && !front) return std::nullopt;
+    const double dist = (m_plane.offset - glm::dot(m_plane.normal, ray.origin)) / denom;
+    if (!(dist > t_min && dist < t_max)) return std::nullopt;
+    const auto st = invert(ray.at(dist));
+    if (!st) return std::nullopt;
+    return SurfaceHit{dist, st->first, st->second, front};
+}
+
+double QuadSurface::area(double s0, double s1, double t0, double t1) const {
+    // For a planar bilinear map |dP/ds x dP/dt| = n . (e x f + s e x g + t g x f) is affine
+    // in (s, t), so its mean over the rectangle is its value at the centre.
+    const double sm = 0.5 * (s0 + s1), tm = 0.5 * (t0 + t1);
+    const Vec3 j = glm::cross(m_e, m_f) + sm * glm::cross(m_e, m_g) + tm * glm::cross(m_g, m_f);
+    return std::abs(glm::dot(j, m_plane.normal)) * (s1 - s0) * (t1 - t0);
+}
+
+BoundingSphere QuadSurface::bound(double s0, double s1, double t0, double t1) const {
+    // A planar convex quad lies inside the sphere around its corners' centroid that
+    // reaches its farthest corner (isoparametric lines of a bilinear quad are straight).
+    const Vec3 c[4] = {point(s0, t0), point(s1, t0), point(s1, t1), point(s0, t1)};
+    const Vec3 mid = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+    double r = 0.0;
+    for (const auto& p : c) r = std::max(r, glm::length(p - mid));
+    return {mid, r};
+}
+
+}  // namespace radiosa

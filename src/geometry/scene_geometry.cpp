@@ -1,0 +1,73 @@
+#include "geometry/scene_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "scene/scene.h"
+
+namespace radiosa {
+
+SceneGeometry::SceneGeometry(const Scene& scene) {
+    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const auto& desc : scene.surfaces) {
+        const int k = static_cast<int>(m_surfaces.size());
+        m_surfaces.push_back(make_surface(desc));
+        m_names.push_back(desc.name);
+        m_ns.push_back(desc.ns);
+        m_nt.push_back(desc.nt);
+        m_first_patch.push_back(static_cast<int>(m_patches.size()));
+        const Surface& surf = *m_surfaces.back();
+        const bool planar = surf.plane().has_value();
+        for (int it = 0; it < desc.nt; ++it)
+            for (int is = 0; is < desc.ns; ++is) {
+                Patch p;
+                p.surface = k;
+                p.is = is;
+                p.it = it;
+                p.s0 = double(is) / desc.ns;
+                p.s1 = double(is + 1) / desc.ns;
+                p.t0 = double(it) / desc.nt;
+                p.t1 = double(it + 1) / desc.nt;
+                p.area = surf.area(p.s0, p.s1, p.t0, p.t1);
+                p.bound = surf.bound(p.s0, p.s1, p.t0, p.t1);
+                p.corners = {surf.point(p.s0, p.t0), surf.point(p.s1, p.t0), surf.point(p.s1, p.t1),
+                             surf.point(p.s0, p.t1)};
+                p.planar = planar;
+                m_patches.push_back(p);
+            }
+        const BoundingSphere b = surf.bound(0, 1, 0, 1);
+        lo = glm::min(lo, b.center - Vec3(b.radius));
+        hi = glm::max(hi, b.center + Vec3(b.radius));
+    }
+    m_scale = glm::length(hi - lo);
+}
+
+Hit SceneGeometry::locate(int k, double s, double t, double dist) const {
+    Hit h;
+    h.dist = dist;
+    h.surface = k;
+    h.s = s;
+    h.t = t;
+    const double fs = s * m_ns[k], ft = t * m_nt[k];
+    const int is = std::clamp(static_cast<int>(fs), 0, m_ns[k] - 1);
+    const int it = std::clamp(static_cast<int>(ft), 0, m_nt[k] - 1);
+    h.u = std::clamp(fs - is, 0.0, 1.0);
+    h.v = std::clamp(ft - it, 0.0, 1.0);
+    h.patch = patch_index(k, is, it);
+    return h;
+}
+
+std::optional<Hit> SceneGeometry::intersect_front(const Ray& ray) const {
+    double best = std::numeric_limits<double>::infinity();
+    std::optional<Hit> hit;
+    for (int k = 0; k < surface_count(); ++k) {
+        if (auto h = m_surfaces[k]->intersect(ray, 0.0, best, HitSide::FrontOnly)) {
+            best = h->dist;
+            hit = locate(k, h->s, h->t, h->dist);
+        }
+    }
+    return hit;
+}
+
+}  // namespace radiosa

@@ -1,0 +1,67 @@
+#pragma once
+// The scene's surfaces as parametric maps, split into patches, with exact ray queries.
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/surface.h"
+#include "util/math.h"
+
+namespace radiosa {
+
+struct Scene;
+
+// A patch: the parameter rectangle [s0,s1] x [t0,t1] of one surface.
+struct Patch {
+    int surface = 0;
+    int is = 0, it = 0;  // index along s and t on its surface
+    double s0 = 0, s1 = 0, t0 = 0, t1 = 0;
+    double area = 0;     // exact
+    BoundingSphere bound;
+    std::array<Vec3, 4> corners{};  // P(s0,t0), P(s1,t0), P(s1,t1), P(s0,t1)
+    bool planar = false;
+};
+
+struct Hit {
+    double dist = 0.0;
+    int surface = -1;
+    int patch = -1;      // global patch index
+    double s = 0, t = 0; // surface parameters
+    double u = 0, v = 0; // parameters local to the patch, in [0,1]
+};
+
+class SceneGeometry {
+public:
+    explicit SceneGeometry(const Scene& scene);
+
+    int surface_count() const { return static_cast<int>(m_surfaces.size()); }
+    const Surface& surface(int k) const { return *m_surfaces[k]; }
+    const std::string& surface_name(int k) const { return m_names[k]; }
+    int ns(int k) const { return m_ns[k]; }
+    int nt(int k) const { return m_nt[k]; }
+    int first_patch(int k) const { return m_first_patch[k]; }
+    int patch_index(int k, int is, int it) const { return m_first_patch[k] + it * m_ns[k] + is; }
+
+    int patch_count() const { return static_cast<int>(m_patches.size()); }
+    const Patch& patch(int i) const { return m_patches[i]; }
+    const std::vector<Patch>& patches() const { return m_patches; }
+    // Characteristic size of the scene (diameter of its bounding sphere).
+    double scale() const { return m_scale; }
+
+    // The nearest front-facing surface point along the ray (one-sided surfaces: a ray
+    // arriving from behind passes through).
+    std::optional<Hit> intersect_front(const Ray& ray) const;
+    // Maps surface parameters to the patch that owns them and the local (u, v).
+    Hit locate(int surface, double s, double t, double dist) const;
+
+private:
+    std::vector<std::unique_ptr<Surface>> m_surfaces;
+    std::vector<std::string> m_names;
+    std::vector<int> m_ns, m_nt, m_first_patch;
+    std::vector<Patch> m_patches;
+    double m_scale = 1.0;
+};
+
+}  // namespace radiosa

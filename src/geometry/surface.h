@@ -1,0 +1,118 @@
+#pragma once
+// Parametric surfaces P(s, t), (s, t) in [0,1]^2, with exact partial derivatives and exact
+// ray intersection. Curved surfaces are never replaced by polygons anywhere in radiosa.
+#include <memory>
+#include <optional>
+
+#include "util/math.h"
+
+namespace radiosa {
+
+struct SurfaceDesc;
+
+struct Plane {
+    Vec3 normal;    // unit, pointing to the front side
+    double offset;  // normal . x = offset on the plane
+    double signed_distance(const Vec3& x) const { return glm::dot(normal, x) - offset; }
+};
+
+struct SurfaceHit {
+    double dist = 0.0;  // ray parameter
+    double s = 0.0;
+    double t = 0.0;
+    bool front = false;  // the ray arrives on the front side
+};
+
+enum class HitSide { Any, FrontOnly };
+
+class Surface {
+public:
+    virtual ~Surface() = default;
+
+    virtual Vec3 point(double s, double t) const = 0;
+    virtual void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const = 0;
+    // The unnormalised front normal n = +-(dP/ds x dP/dt); |n| ds dt is the area element.
+    Vec3 normal(double s, double t) const {
+        Vec3 ds, dt;
+        partials(s, t, &ds, &dt);
+        return m_orientation * glm::cross(ds, dt);
+    }
+
+    // The nearest crossing with dist in (t_min, t_max) (only front-side ones if asked).
+    virtual std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
+                                                HitSide side) const = 0;
+
+    // Exact area of the parameter rectangle [s0,s1] x [t0,t1].
+    virtual double area(double s0, double s1, double t0, double t1) const = 0;
+    // A sphere containing the image of the parameter rectangle.
+    virtual BoundingSphere bound(double s0, double s1, double t0, double t1) const = 0;
+    // The supporting plane of a planar surface.
+    virtual std::optional<Plane> plane() const { return std::nullopt; }
+
+    // True when a chord between two of its points never crosses the surface elsewhere
+    // (planes, spheres): then it can be left out of the occlusion test for its own pairs.
+    virtual bool chords_never_cross() const = 0;
+    // True when a segment that leaves one of its points on the front side never meets the
+    // surface again (planes, outward spheres), whatever the other end.
+    virtual bool front_segments_escape() const = 0;
+    // True when a patch can see another patch of the same surface (concave side in front).
+    virtual bool sees_itself() const = 0;
+    // Topology of the parameter domain, for averaging radiosities at shared nodes.
+    virtual bool wraps_in_s() const { return false; }   // s = 0 and s = 1 coincide
+    virtual bool pole_at_t0() const { return false; }   // the whole edge t = 0 is one point
+    virtual bool pole_at_t1() const { return false; }
+
+protected:
+    double m_orientation = 1.0;
+};
+
+std::unique_ptr<Surface> make_surface(const SurfaceDesc& desc);
+
+// Bilinear map of four coplanar corners (a parallelogram when c0 + c2 = c1 + c3).
+class QuadSurface final : public Surface {
+public:
+    QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& c3);
+    Vec3 point(double s, double t) const override;
+    void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
+    std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
+                                        HitSide side) const override;
+    double area(double s0, double s1, double t0, double t1) const override;
+    BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
+    std::optional<Plane> plane() const override { return m_plane; }
+    bool chords_never_cross() const override { return true; }
+    bool front_segments_escape() const override { return true; }
+    bool sees_itself() const override { return false; }
+    // Inverse of the map for a point on the plane; nullopt when outside [0,1]^2.
+    std::optional<std::pair<double, double>> invert(const Vec3& x) const;
+
+private:
+    Vec3 m_p0, m_e, m_f, m_g;  // P = p0 + s e + t f + s t g
+    Plane m_plane;
+    Vec3 m_u, m_v;             // orthonormal in-plane axes
+};
+
+// Sphere: azimuth 2 pi s, polar angle pi (1 - t) from +z.
+class SphereSurface final : public Surface {
+public:
+    SphereSurface(const Vec3& center, double radius, bool inward);
+    Vec3 point(double s, double t) const override;
+    void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
+    std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
+                                        HitSide side) const override;
+    double area(double s0, double s1, double t0, double t1) const override;
+    BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
+    bool chords_never_cross() const override { return true; }
+    bool front_segments_escape() const override { return m_orientation > 0.0; }
+    bool sees_itself() const override { return m_orientation < 0.0; }
+    bool wraps_in_s() const override { return true; }
+    bool pole_at_t0() const override { return true; }
+    bool pole_at_t1() const override { return true; }
+    const Vec3& center() const { return m_center; }
+    double radius() const { return m_radius; }
+
+private:
+    Vec3 m_center;
+    double m_radius;
+};
+
+}  // namespace radiosa

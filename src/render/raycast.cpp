@@ -1,0 +1,61 @@
+#include "render/raycast.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+namespace radiosa {
+
+namespace {
+// Calls f(hit or nullptr) for every sub-pixel ray of pixel (x, y).
+template <class F>
+void for_each_sample(const SceneGeometry& geo, const PinholeCamera& cam, int samples, int x, int y, F&& f) {
+    for (int sy = 0; sy < samples; ++sy)
+        for (int sx = 0; sx < samples; ++sx) {
+            const Ray r = cam.ray(x + (sx + 0.5) / samples, y + (sy + 0.5) / samples);
+            const auto hit = geo.intersect_front(r);
+            f(hit ? &*hit : nullptr);
+        }
+}
+}  // namespace
+
+Image render_image(const SceneGeometry& geo, const NodeRadiosity& nodes, const PinholeCamera& cam,
+                   const RenderOptions& opt) {
+    Image img;
+    img.width = opt.width;
+    img.height = opt.height;
+    img.rgb.assign(static_cast<size_t>(opt.width) * opt.height * 3, 0.0f);
+    const double inv = 1.0 / (opt.samples * opt.samples);
+    // Rows are independent and each pixel's samples are summed in a fixed order, so the
+    // image is the same whatever the number of threads.
+    tbb::parallel_for(tbb::blocked_range<int>(0, opt.height), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int x = 0; x < opt.width; ++x) {
+                Rgb sum(0.0);
+                for_each_sample(geo, cam, opt.samples, x, y, [&](const Hit* h) {
+                    if (h) sum += nodes.shade(*h);  // background (no hit) is black
+                });
+                const size_t i = 3 * (static_cast<size_t>(y) * opt.width + x);
+                for (int c = 0; c < 3; ++c) img.rgb[i + c] = static_cast<float>(sum[c] * inv);
+            }
+    });
+    return img;
+}
+
+double surface_coverage(const SceneGeometry& geo, int surface, const PinholeCamera& cam,
+                        const RenderOptions& opt) {
+    const double inv = 1.0 / (opt.samples * opt.samples);
+    return tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, opt.height), 0.0,
+        [&](const tbb::blocked_range<int>& rows, double acc) {
+            for (int y = rows.begin(); y != rows.end(); ++y)
+                for (int x = 0; x < opt.width; ++x)
+                    for_each_sample(geo, cam, opt.samples, x, y, [&](const Hit* h) {
+                        if (h && h->surface == surface) acc += inv;
+                    });
+            return acc;
+        },
+        [](double a, double b) { return a + b; });
+}
+
+}  // namespace radiosa

@@ -1,0 +1,51 @@
+#include "render/shading.h"
+
+namespace radiosa {
+
+NodeRadiosity::NodeRadiosity(const SceneGeometry& geo, const std::vector<Rgb>& B) : m_geo(geo) {
+    m_nodes.resize(geo.surface_count());
+    for (int k = 0; k < geo.surface_count(); ++k) {
+        const Surface& surf = geo.surface(k);
+        const int ns = geo.ns(k), nt = geo.nt(k);
+        auto patch_B = [&](int is, int it) -> const Rgb& { return B[geo.patch_index(k, is, it)]; };
+        auto& nodes = m_nodes[k];
+        nodes.assign(static_cast<size_t>(ns + 1) * (nt + 1), Rgb(0.0));
+        for (int b = 0; b <= nt; ++b)
+            for (int a = 0; a <= ns; ++a) {
+                Rgb sum(0.0);
+                int count = 0;
+                const bool pole = (b == 0 && surf.pole_at_t0()) || (b == nt && surf.pole_at_t1());
+                if (pole) {
+                    // The whole edge is one point: every patch of the adjacent row meets there.
+                    const int it = b == 0 ? 0 : nt - 1;
+                    for (int is = 0; is < ns; ++is, ++count) sum += patch_B(is, it);
+                } else {
+                    for (int da = -1; da <= 0; ++da)
+                        for (int db = -1; db <= 0; ++db) {
+                            int is = a + da;
+                            const int it = b + db;
+                            if (it < 0 || it >= nt) continue;
+                            if (surf.wraps_in_s()) is = (is + ns) % ns;  // the seam s = 0 = 1
+                            else if (is < 0 || is >= ns) continue;
+                            sum += patch_B(is, it);
+                            ++count;
+                        }
+                }
+                nodes[static_cast<size_t>(b) * (ns + 1) + a] = sum / double(count);
+            }
+    }
+}
+
+const Rgb& NodeRadiosity::node(int k, int a, int b) const {
+    return m_nodes[k][static_cast<size_t>(b) * (m_geo.ns(k) + 1) + a];
+}
+
+Rgb NodeRadiosity::shade(const Hit& h) const {
+    const Patch& p = m_geo.patch(h.patch);
+    const int a = p.is, b = p.it;
+    const double u = h.u, v = h.v;
+    return (1 - u) * (1 - v) * node(h.surface, a, b) + u * (1 - v) * node(h.surface, a + 1, b) +
+           u * v * node(h.surface, a + 1, b + 1) + (1 - u) * v * node(h.surface, a, b + 1);
+}
+
+}  // namespace radiosa

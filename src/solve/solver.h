@@ -1,0 +1,62 @@
+#pragma once
+// Radiosity solve, one colour channel at a time: (I - diag(rho) F) B = E.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "util/dense_matrix.h"
+#include "util/math.h"
+
+namespace radiosa {
+
+struct Scene;
+class SceneGeometry;
+
+// Per-patch reflectance and emission, from the scene (patch_emission overrides included).
+// Kept apart from the geometry: colours and lights change without new form factors.
+struct Materials {
+    std::vector<Rgb> rho;
+    std::vector<Rgb> E;
+};
+Materials patch_materials(const Scene& scene, const SceneGeometry& geometry);
+
+enum class SolverMethod {
+    LU,          // Eigen partial-pivoting LU; factorisation kept, a new E costs a substitution
+    GaussJordan  // the 1991 paper's method, a full elimination per channel and per E
+};
+SolverMethod parse_solver_method(const std::string& name);  // "lu" | "gauss-jordan"
+const char* solver_method_name(SolverMethod m);
+
+class RadiositySolver {
+public:
+    RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& rho, SolverMethod method);
+    ~RadiositySolver();
+    RadiositySolver(const RadiositySolver&) = delete;
+    RadiositySolver& operator=(const RadiositySolver&) = delete;
+
+    std::vector<Rgb> solve(const std::vector<Rgb>& E) const;
+
+    // Channels with identical reflectance share one factorisation.
+    int factorisations() const;
+    double factorise_seconds() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m;
+};
+
+struct SolveDiagnostics {
+    // max over channels of ||(I - rho F) B - E|| / ||E|| (0 when E = 0)
+    double residual = 0.0;
+    // Power emitted sum A_i E_i against power absorbed sum A_i (1 - rho_i) H_i, H = F B the
+    // irradiance; max over channels of |emitted - absorbed| / emitted. Meaningful for
+    // closed scenes only.
+    double energy_balance_error = 0.0;
+    Rgb emitted_power{0.0};
+    Rgb absorbed_power{0.0};
+};
+
+SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area,
+                                   const Materials& m, const std::vector<Rgb>& B);
+
+}  // namespace radiosa
