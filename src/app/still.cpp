@@ -65,7 +65,7 @@ StillReport run_still(const StillJob& job) {
     r.solve = diagnose_solution(ff.F, ff.area, mat, B);
 
     clock = Stopwatch();
-    const NodeRadiosity nodes(geometry, B);
+    const NodeRadiosity nodes(geometry, B, mat.E);
     const PinholeCamera cam(camera, job.render.width, job.render.height);
     const Image img = render_image(geometry, nodes, cam, job.render);
     r.times.render_s = clock.seconds();

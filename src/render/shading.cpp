@@ -2,12 +2,16 @@
 
 namespace radiosa {
 
-NodeRadiosity::NodeRadiosity(const SceneGeometry& geo, const std::vector<Rgb>& B) : m_geo(geo) {
+NodeRadiosity::NodeRadiosity(const SceneGeometry& geo, const std::vector<Rgb>& B, const std::vector<Rgb>& E)
+    : m_geo(geo), m_E(E) {
     m_nodes.resize(geo.surface_count());
     for (int k = 0; k < geo.surface_count(); ++k) {
         const Surface& surf = geo.surface(k);
         const int ns = geo.ns(k), nt = geo.nt(k);
-        auto patch_B = [&](int is, int it) -> const Rgb& { return B[geo.patch_index(k, is, it)]; };
+        auto patch_B = [&](int is, int it) {
+            const int i = geo.patch_index(k, is, it);
+            return B[i] - E[i];
+        };
         auto& nodes = m_nodes[k];
         nodes.assign(static_cast<size_t>(ns + 1) * (nt + 1), Rgb(0.0));
         for (int b = 0; b <= nt; ++b)
@@ -44,7 +48,7 @@ Rgb NodeRadiosity::shade(const Hit& h) const {
     const Patch& p = m_geo.patch(h.patch);
     const int a = p.is, b = p.it;
     const double u = h.u, v = h.v;
-    return (1 - u) * (1 - v) * node(h.surface, a, b) + u * (1 - v) * node(h.surface, a + 1, b) +
+    return m_E[h.patch] + (1 - u) * (1 - v) * node(h.surface, a, b) + u * (1 - v) * node(h.surface, a + 1, b) +
            u * v * node(h.surface, a + 1, b + 1) + (1 - u) * v * node(h.surface, a, b + 1);
 }
 

@@ -100,7 +100,13 @@ void validate_quad(const SurfaceDesc& s, const FileLoc& where) {
     double size = 0.0;
     for (int k = 0; k < 4; ++k) size = std::max(size, glm::length(c[(k + 1) % 4] - c[k]));
     if (!(size > 0.0)) throw Error(where, "quad '" + s.name + "' is degenerate: all corners coincide");
-    const Vec3 n = glm::cross(c[2] - c[0], c[3] - c[1]);
+    // The plane normal from the corner with the strongest turn: the diagonals' cross product
+    // would vanish for a crossed (bow-tie) quad and misreport it as collinear.
+    Vec3 n(0.0);
+    for (int k = 0; k < 4; ++k) {
+        const Vec3 nk = glm::cross(c[(k + 1) % 4] - c[k], c[(k + 3) % 4] - c[k]);
+        if (glm::length(nk) > glm::length(n)) n = nk;
+    }
     const double nlen = glm::length(n);
     if (nlen <= 1e-12 * size * size)
         throw Error(where, "quad '" + s.name + "' is degenerate: its corners are collinear");

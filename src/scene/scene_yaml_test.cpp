@@ -1,0 +1,253 @@
+#include <gtest/gtest.h>
+
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+namespace radiosa {
+
+namespace {
+
+const char* kGood = R"(name: box
+form_factors:
+  gauss_points: 5
+surfaces:
+  - name: floor
+    type: quad
+    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    patches: [2, 3]
+    reflectance: [0.5, 0.25, 1]
+    emission: [1, 2, 3]
+    patch_emission:
+      - patch: [1, 2]
+        emission: [7, 7, 7]
+  - name: ball
+    type: sphere
+    center: [0, 0, 5]
+    radius: 2
+    facing: inward
+    patches: [8, 4]
+    reflectance: [0.5, 0.5, 1.0]
+  - name: wall
+    type: quad
+    origin: [0, 0, 0]
+    edge_s: [0, 0, 1]
+    edge_t: [1, 0, 0]
+    patches: [1, 1]
+    reflectance: [0, 0, 0]
+)";
+
+// Parses `text` and returns the error message, or "" when it parses.
+std::string parse_error(const std::string& text) {
+    try {
+        parse_scene(text, "s.yaml");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::string with_surface(const std::string& body) {
+    return "surfaces:\n  - name: a\n" + body;
+}
+
+const std::string kQuadBody =
+    "    type: quad\n"
+    "    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n"
+    "    patches: [1, 1]\n";
+
+}  // namespace
+
+TEST(SceneYaml, ReadsEveryField) {
+    const Scene s = parse_scene(kGood, "good.yaml");
+    EXPECT_EQ(s.name, "box");
+    EXPECT_TRUE(s.closed);
+    EXPECT_EQ(s.form_factors.gauss_points, 5);
+    ASSERT_EQ(s.surfaces.size(), 3u);
+    const SurfaceDesc& f = s.surfaces[0];
+    EXPECT_EQ(f.type, SurfaceType::Quad);
+    EXPECT_EQ(f.ns, 2);
+    EXPECT_EQ(f.nt, 3);
+    EXPECT_EQ(f.reflectance, Rgb(0.5, 0.25, 1.0));
+    EXPECT_EQ(f.emission, Rgb(1, 2, 3));
+    ASSERT_EQ(f.patch_emission.size(), 1u);
+    EXPECT_EQ(f.patch_emission[0].is, 1);
+    EXPECT_EQ(f.patch_emission[0].it, 2);
+    EXPECT_EQ(f.loc.line, 5);
+    const SurfaceDesc& b = s.surfaces[1];
+    EXPECT_EQ(b.type, SurfaceType::Sphere);
+    EXPECT_TRUE(b.inward);
+    EXPECT_EQ(b.radius, 2.0);
+    EXPECT_EQ(b.center, Vec3(0, 0, 5));
+    const SurfaceDesc& w = s.surfaces[2];
+    EXPECT_EQ(w.corners[2], Vec3(1, 0, 1));  // origin + edge_s + edge_t
+    EXPECT_EQ(s.patch_count(), 6 + 32 + 1);
+}
+
+TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
+    const Scene s = parse_scene(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n"), "d.yaml");
+    EXPECT_EQ(s.name, "d");
+    EXPECT_EQ(s.form_factors.gauss_points, 6);
+    EXPECT_TRUE(s.form_factors.visibility);
+    EXPECT_EQ(s.surfaces[0].emission, Rgb(0.0));
+}
+
+TEST(SceneYaml, UnknownKeyNamesItsLine) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    colour: [1, 1, 1]\n")),
+              "s.yaml:7:5: unknown key 'colour' in surface #1 (allowed: name, type, corners | origin + "
+              "edge_s + edge_t, patches, reflectance, emission, patch_emission)");
+}
+
+TEST(SceneYaml, MissingFieldNamesTheSurface) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody)),
+              "s.yaml:2:5: surface #1 is missing the required key 'reflectance'");
+    EXPECT_EQ(parse_error("name: x\n"), "s.yaml:1:1: scene is missing the required key 'surfaces'");
+}
+
+TEST(SceneYaml, WrongTypeIsReported) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: 0.5\n")),
+              "s.yaml:6:18: reflectance must be a list of 3 numbers [r, g, b]");
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0.5, red, 0]\n")),
+              "s.yaml:6:24: reflectance[1] must be a number, got 'red'");
+    EXPECT_EQ(parse_error("surfaces: 3\n"), "s.yaml:1:11: surfaces must be a non-empty list of surfaces");
+}
+
+TEST(SceneYaml, NanAndInfinityAreRefused) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [.nan, 0, 0]\n")),
+              "s.yaml:6:19: reflectance[0] must be a finite number, got '.nan'");
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    emission: [1e999, 0, 0]\n")),
+              "s.yaml:7:16: emission[0] is out of the range of double: '1e999'");
+}
+
+TEST(SceneYaml, ReflectanceOutsideUnitIntervalIsRefused) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0.5, 1.2, 0]\n")),
+              "s.yaml:6:24: reflectance must be in [0, 1] (a surface cannot reflect more than it "
+              "receives), got 1.2");
+    EXPECT_NE(parse_error(with_surface(kQuadBody + "    reflectance: [-0.1, 0, 0]\n")), "");
+}
+
+TEST(SceneYaml, NegativeEmissionIsRefused) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    emission: [0, -1, 0]\n")),
+              "s.yaml:7:19: emission must be >= 0, got -1");
+}
+
+TEST(SceneYaml, NegativeOrZeroRadiusIsRefused) {
+    const std::string sphere =
+        "    type: sphere\n    center: [0, 0, 0]\n    radius: -1\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n";
+    EXPECT_EQ(parse_error(with_surface(sphere)), "s.yaml:5:13: radius must be > 0, got -1");
+    std::string zero = sphere;
+    zero.replace(zero.find("-1"), 2, "0");
+    EXPECT_EQ(parse_error(with_surface(zero)), "s.yaml:5:13: radius must be > 0, got 0");
+}
+
+TEST(SceneYaml, DegenerateAndNonPlanarQuadsAreRefused) {
+    const std::string collinear =
+        "    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]]\n    patches: [1, 1]\n"
+        "    reflectance: [0, 0, 0]\n";
+    EXPECT_EQ(parse_error(with_surface(collinear)),
+              "s.yaml:2:5: quad 'a' is degenerate: its corners are collinear");
+    const std::string bent =
+        "    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]\n    patches: [1, 1]\n"
+        "    reflectance: [0, 0, 0]\n";
+    EXPECT_EQ(parse_error(with_surface(bent)),
+              "s.yaml:2:5: quad 'a' is not planar: corner 0 is off the plane of the others (split it "
+              "into planar quads)");
+    const std::string bowtie =
+        "    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]\n    patches: [1, 1]\n"
+        "    reflectance: [0, 0, 0]\n";
+    EXPECT_NE(parse_error(with_surface(bowtie)).find("is degenerate or not convex"), std::string::npos);
+}
+
+TEST(SceneYaml, PatchCountsAreBounded) {
+    std::string body = kQuadBody + "    reflectance: [0, 0, 0]\n";
+    body.replace(body.find("[1, 1]"), 6, "[0, 3]");
+    EXPECT_EQ(parse_error(with_surface(body)), "s.yaml:5:15: patch count must be between 1 and 4096, got 0");
+    body.replace(body.find("[0, 3]"), 6, "[4000, 4000]");
+    EXPECT_EQ(parse_error(with_surface(body)),
+              "s.yaml:2:5: the scene has more than 20000 patches; the dense form-factor matrix would need "
+              "2048000 GB or more (use fewer patches)");
+}
+
+TEST(SceneYaml, DuplicatesAreRefused) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    reflectance: [1, 1, 1]\n")),
+              "s.yaml:7:5: key 'reflectance' appears twice in surface #1");
+    const std::string two = with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n") + "  - name: a\n" +
+                            kQuadBody + "    reflectance: [0, 0, 0]\n";
+    EXPECT_EQ(parse_error(two), "s.yaml:7:5: surface name 'a' is used twice; names must be unique");
+}
+
+TEST(SceneYaml, PatchEmissionMustNameAnExistingPatch) {
+    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    patch_emission:\n"
+                                                   "      - patch: [1, 0]\n        emission: [1, 1, 1]\n")),
+              "s.yaml:8:16: patch [1, 0] is outside surface 'a', which has patches [0..0, 0..0]");
+}
+
+TEST(SceneYaml, UnknownSurfaceType) {
+    EXPECT_EQ(parse_error("surfaces:\n  - name: t\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+              "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere)");
+}
+
+TEST(SceneYaml, MalformedEmptyAndBinaryFiles) {
+    EXPECT_EQ(parse_error("surfaces: [\n"), "s.yaml:2:1: malformed YAML: end of sequence flow not found");
+    EXPECT_EQ(parse_error(""), "s.yaml:1:1: file is empty; expected a YAML mapping");
+    EXPECT_EQ(parse_error(std::string("\x7f" "ELF\0\0", 6)), "s.yaml: file is binary, not YAML text");
+}
+
+TEST(SceneYaml, MissingFileIsReported) {
+    try {
+        load_scene("no/such/scene.yaml");
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "no/such/scene.yaml: no such file");
+    }
+}
+
+TEST(SceneYaml, ShippedScenesParse) {
+    const Scene a = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    EXPECT_EQ(a.patch_count(), 86);
+    EXPECT_EQ(a.surfaces[a.find_surface("face3")].emission, Rgb(1.27));
+    const Scene c = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991-c.yaml");
+    EXPECT_EQ(c.patch_count(), 86);
+    const SurfaceDesc& ceiling = c.surfaces[c.find_surface("face6")];
+    ASSERT_EQ(ceiling.patch_emission.size(), 1u);
+    EXPECT_EQ(ceiling.patch_emission[0].emission, Rgb(7.0));
+    EXPECT_EQ(c.surfaces[c.find_surface("face3")].emission, Rgb(0.0));
+}
+
+TEST(CameraYaml, PaperConventionPutsThetaZeroOnPlusX) {
+    const CameraDesc a = parse_camera("camera:\n  distance: 6\n  theta_deg: 0\n  phi_deg: 90\n", "a.yaml");
+    EXPECT_NEAR(a.eye.x, 6.0, 1e-12);
+    EXPECT_NEAR(a.eye.y, 0.0, 1e-12);
+    EXPECT_NEAR(a.eye.z, 0.0, 1e-12);
+    const CameraDesc b = parse_camera("camera:\n  distance: 6\n  theta_deg: 180\n  phi_deg: 90\n", "b.yaml");
+    EXPECT_NEAR(b.eye.x, -6.0, 1e-12);
+    const CameraDesc top = parse_camera("camera:\n  distance: 2\n  theta_deg: 0\n  phi_deg: 0\n", "t.yaml");
+    EXPECT_NEAR(top.eye.z, 2.0, 1e-12);
+}
+
+TEST(CameraYaml, PositionForm) {
+    const CameraDesc c = parse_camera(
+        "camera:\n  position: [1, 2, 3]\n  look_at: [0, 0, 1]\n  up: [0, 1, 0]\n  fov_deg: 30\n", "c.yaml");
+    EXPECT_EQ(c.eye, Vec3(1, 2, 3));
+    EXPECT_EQ(c.look_at, Vec3(0, 0, 1));
+    EXPECT_EQ(c.up, Vec3(0, 1, 0));
+    EXPECT_EQ(c.fov_deg, 30.0);
+}
+
+TEST(CameraYaml, ErrorsNameTheirLine) {
+    auto err = [](const std::string& t) {
+        try {
+            parse_camera(t, "c.yaml");
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(err("camera:\n  distance: -6\n  theta_deg: 0\n  phi_deg: 90\n"),
+              "c.yaml:2:13: distance must be > 0, got -6");
+    EXPECT_EQ(err("camera:\n  distance: 6\n  theta_deg: 0\n"), "c.yaml:2:3: camera is missing the required key 'phi_deg'");
+    EXPECT_EQ(err("camera:\n  position: [0, 0, 0]\n  fov_deg: 180\n"), "c.yaml:3:12: fov_deg must be in (0, 180), got 180");
+    EXPECT_EQ(err("camera:\n  position: [0, 0, 0]\n"), "c.yaml:2:3: camera: position and look_at coincide");
+    EXPECT_EQ(err("cam:\n  position: [1, 0, 0]\n"), "c.yaml:1:1: camera file is missing the required key 'camera'");
+}
+
+}  // namespace radiosa

@@ -1,0 +1,98 @@
+#include "solve/solver.h"
+
+#include <gtest/gtest.h>
+
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "scene/scene.h"
+
+namespace radiosa {
+
+namespace {
+Scene furnace(double rho, double e) {
+    // A closed inward sphere: its form factors are exact (see SphereInteriorIsAreaRatio).
+    return parse_scene("surfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+                       "    facing: inward\n    patches: [8, 4]\n    reflectance: [" +
+                           std::to_string(rho) + ", " + std::to_string(rho) + ", " + std::to_string(rho) +
+                           "]\n    emission: [" + std::to_string(e) + ", " + std::to_string(2 * e) + ", 0]\n",
+                       "furnace.yaml");
+}
+}  // namespace
+
+TEST(Solver, FurnaceRadiosityIsEmissionOverOneMinusRho) {
+    for (double rho : {0.0, 0.5, 0.9}) {
+        const Scene s = furnace(rho, 1.0);
+        const SceneGeometry geo(s);
+        // p = 8 makes the furnace's form factors exact to rounding (see SphereInteriorIsAreaRatio).
+        const FormFactors ff = compute_form_factors(geo, {8, true});
+        const Materials m = patch_materials(s, geo);
+        for (SolverMethod method : {SolverMethod::LU, SolverMethod::GaussJordan}) {
+            const RadiositySolver solver(ff.F, m.rho, method);
+            const std::vector<Rgb> B = solver.solve(m.E);
+            for (const Rgb& b : B) {
+                EXPECT_NEAR(b.r, 1.0 / (1.0 - rho), 1e-12 / (1.0 - rho));
+                EXPECT_NEAR(b.g, 2.0 / (1.0 - rho), 2e-12 / (1.0 - rho));
+                EXPECT_EQ(b.b, 0.0);  // no emission in blue: no solve, exactly 0
+            }
+            const SolveDiagnostics d = diagnose_solution(ff.F, ff.area, m, B);
+            EXPECT_LT(d.residual, 1e-14);
+            EXPECT_LT(d.energy_balance_error, 1e-12);
+            EXPECT_NEAR(d.emitted_power.r, 4 * kPi, 1e-12);
+        }
+    }
+}
+
+TEST(Solver, IdenticalChannelsShareOneFactorisation) {
+    const Scene grey = furnace(0.5, 1.0);
+    const SceneGeometry geo(grey);
+    const FormFactors ff = compute_form_factors(geo, {2, true});
+    const Materials m = patch_materials(grey, geo);
+    EXPECT_EQ(RadiositySolver(ff.F, m.rho, SolverMethod::LU).factorisations(), 1);
+    std::vector<Rgb> rho = m.rho;
+    rho[3].b = 0.25;  // blue differs on one patch
+    EXPECT_EQ(RadiositySolver(ff.F, rho, SolverMethod::LU).factorisations(), 2);
+}
+
+TEST(Solver, SeedSceneLuAgreesWithGaussJordanAndIsLinearInEmission) {
+    const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const SceneGeometry geo(s);
+    const FormFactors ff = compute_form_factors(geo, {4, true});
+    const Materials m = patch_materials(s, geo);
+    const RadiositySolver lu(ff.F, m.rho, SolverMethod::LU);
+    EXPECT_EQ(lu.factorisations(), 2);  // sphere (0.5, 0.5, 1.0): red and green alike
+    const std::vector<Rgb> B = lu.solve(m.E);
+    const std::vector<Rgb> Bgj = RadiositySolver(ff.F, m.rho, SolverMethod::GaussJordan).solve(m.E);
+    for (size_t i = 0; i < B.size(); ++i)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(B[i][c], Bgj[i][c], 1e-12);
+    // Doubling the emission doubles the radiosity (substitution with the kept factors).
+    std::vector<Rgb> E2 = m.E;
+    for (Rgb& e : E2) e *= 2.0;
+    const std::vector<Rgb> B2 = lu.solve(E2);
+    for (size_t i = 0; i < B.size(); ++i) EXPECT_NEAR(B2[i].g, 2.0 * B[i].g, 1e-12);
+    // The blue sphere reflects more blue than red.
+    const int sphere = geo.first_patch(s.find_surface("sphere"));
+    EXPECT_GT(B[sphere].b, B[sphere].r);
+    EXPECT_LT(diagnose_solution(ff.F, ff.area, m, B).residual, 1e-14);
+}
+
+TEST(Solver, PatchEmissionOverridesTheSurface) {
+    const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991-c.yaml");
+    const SceneGeometry geo(s);
+    const Materials m = patch_materials(s, geo);
+    const int ceiling = s.find_surface("face6");
+    int emitting = 0;
+    for (int i = 0; i < geo.patch_count(); ++i)
+        if (m.E[i] != Rgb(0.0)) {
+            ++emitting;
+            EXPECT_EQ(i, geo.patch_index(ceiling, 1, 1));
+            EXPECT_EQ(m.E[i], Rgb(7.0));
+        }
+    EXPECT_EQ(emitting, 1);
+}
+
+TEST(Solver, UnknownSolverNameIsAnError) {
+    EXPECT_EQ(parse_solver_method("gauss-jordan"), SolverMethod::GaussJordan);
+    EXPECT_THROW(parse_solver_method("cholesky"), Error);
+}
+
+}  // namespace radiosa
