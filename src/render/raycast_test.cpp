@@ -1,0 +1,116 @@
+#include "render/raycast.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "render/image_io.h"
+#include "scene/scene.h"
+
+namespace radiosa {
+
+namespace {
+Scene lone_sphere() {
+    return parse_scene("closed: false\nsurfaces:\n  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n"
+                       "    radius: 1\n    patches: [8, 4]\n    reflectance: [0.5, 0.5, 1]\n",
+                       "ball.yaml");
+}
+}  // namespace
+
+TEST(Raycast, SphereSilhouetteCoversTheAnalyticArea) {
+    // Seen from distance D on axis, a sphere of radius R projects to a disc of radius
+    // f tan(asin(R / D)) pixels, f the focal length in pixels.
+    const Scene s = lone_sphere();
+    const SceneGeometry geo(s);
+    CameraDesc cd;
+    cd.eye = Vec3(6, 0, 0);
+    cd.fov_deg = 50;
+    const RenderOptions opt{200, 200, 4};
+    const PinholeCamera cam(cd, opt.width, opt.height);
+    const double r = cam.focal_pixels() * std::tan(std::asin(1.0 / 6.0));
+    const double expected = kPi * r * r;
+    EXPECT_NEAR(surface_coverage(geo, 0, cam, opt), expected, 0.003 * expected);
+}
+
+TEST(Shading, NodesAverageAroundSeamAndPoles) {
+    const Scene s = lone_sphere();
+    const SceneGeometry geo(s);
+    std::vector<Rgb> B(geo.patch_count()), E(geo.patch_count(), Rgb(0.0));
+    for (int i = 0; i < geo.patch_count(); ++i) B[i] = Rgb(double(i));
+    const NodeRadiosity nodes(geo, B, E);
+    // South pole: mean of the 8 patches of row 0 (indices 0..7) = 3.5, for every a.
+    for (int a = 0; a <= 8; ++a) EXPECT_DOUBLE_EQ(nodes.node(0, a, 0).r, 3.5);
+    // North pole: mean of row 3 (24..31) = 27.5.
+    EXPECT_DOUBLE_EQ(nodes.node(0, 4, 4).r, 27.5);
+    // Seam: node a = 0 and a = 8 are one point, averaging patches 7, 0, 15, 8.
+    EXPECT_DOUBLE_EQ(nodes.node(0, 0, 1).r, (7 + 0 + 15 + 8) / 4.0);
+    EXPECT_DOUBLE_EQ(nodes.node(0, 8, 1).r, nodes.node(0, 0, 1).r);
+}
+
+TEST(Shading, UniformRadiosityShadesUniformlyAndEmissionStaysOnItsPatch) {
+    const Scene s = parse_scene("surfaces:\n  - name: f\n    type: quad\n    corners: [[0, 0, 0], [3, 0, 0], "
+                                "[3, 3, 0], [0, 3, 0]]\n    patches: [3, 3]\n    reflectance: [0.5, 0.5, 0.5]\n",
+                                "f.yaml");
+    const SceneGeometry geo(s);
+    std::vector<Rgb> B(9, Rgb(0.25)), E(9, Rgb(0.0));
+    B[4] += Rgb(7.0);
+    E[4] = Rgb(7.0);  // the centre patch emits 7 on top of the uniform reflected 0.25
+    const NodeRadiosity nodes(geo, B, E);
+    for (double x : {0.2, 1.1, 1.5, 2.9})
+        for (double y : {0.4, 1.9, 2.2}) {
+            const Hit h = geo.locate(0, x / 3, y / 3, 1.0);
+            const bool centre = x > 1 && x < 2 && y > 1 && y < 2;
+            EXPECT_NEAR(nodes.shade(h).g, centre ? 7.25 : 0.25, 1e-14) << x << "," << y;
+        }
+}
+
+TEST(Raycast, ImageDoesNotDependOnThreadCount) {
+    const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const SceneGeometry geo(s);
+    std::vector<Rgb> B(geo.patch_count());
+    for (int i = 0; i < geo.patch_count(); ++i) B[i] = Rgb(0.01 * i, 0.5, 1.0 - 0.01 * i);
+    const NodeRadiosity nodes(geo, B, std::vector<Rgb>(geo.patch_count(), Rgb(0.0)));
+    CameraDesc cd;
+    const PinholeCamera cam(cd, 64, 48);
+    const RenderOptions opt{64, 48, 2};
+    const Image many = render_image(geo, nodes, cam, opt);
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    EXPECT_EQ(render_image(geo, nodes, cam, opt).rgb, many.rgb);
+}
+
+TEST(ImageIo, PngIsSrgbAndExrIsLinear) {
+    Image img;
+    img.width = 4;
+    img.height = 2;
+    img.rgb.assign(24, 0.5f);
+    img.rgb[0] = 1.0f;
+    img.rgb[1] = 7.0f;  // overexposed: clamps to white
+    img.rgb[2] = 0.0f;
+    const auto dir = std::filesystem::temp_directory_path() / "radiosa_image_io_test";
+    std::filesystem::create_directories(dir);
+    write_image(img, (dir / "a.png").string(), 0.0);
+    write_image(img, (dir / "a.exr").string(), 0.0);
+    const Image png = read_image((dir / "a.png").string());
+    ASSERT_EQ(png.width, 4);
+    ASSERT_EQ(png.height, 2);
+    EXPECT_FLOAT_EQ(png.rgb[0], 1.0f);
+    EXPECT_FLOAT_EQ(png.rgb[1], 1.0f);
+    EXPECT_FLOAT_EQ(png.rgb[2], 0.0f);
+    EXPECT_NEAR(png.rgb[3], 188.0 / 255.0, 1e-6);  // sRGB(0.5) = 0.7354 -> 188
+    const Image exr = read_image((dir / "a.exr").string());
+    EXPECT_EQ(exr.rgb, img.rgb);
+    EXPECT_EQ(encode_srgb8(0.0031308 / 2), std::lround(255 * 12.92 * 0.0031308 / 2));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(ImageIo, MissingDirectoryFailsAndLeavesNoFile) {
+    Image img;
+    img.width = img.height = 1;
+    img.rgb.assign(3, 0.0f);
+    EXPECT_THROW(write_image(img, "/nonexistent-radiosa-dir/a.png", 0.0), Error);
+    EXPECT_FALSE(std::filesystem::exists("/nonexistent-radiosa-dir"));
+}
+
+}  // namespace radiosa

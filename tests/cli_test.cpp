@@ -1,0 +1,128 @@
+// End to end through the command line, in-process: exit codes, messages, outputs, report.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/cli.h"
+#include "render/image_io.h"
+
+namespace radiosa {
+
+namespace fs = std::filesystem;
+
+namespace {
+struct CliRun {
+    int code;
+    std::string out, err;
+};
+CliRun run(std::vector<std::string> args) {
+    args.insert(args.begin(), "radiosa");
+    std::vector<const char*> argv;
+    for (auto& a : args) argv.push_back(a.c_str());
+    std::ostringstream out, err;
+    const int code = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+    return {code, out.str(), err.str()};
+}
+const std::string kScene = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
+const std::string kSceneC = RADIOSA_SOURCE_DIR "/scenes/baranoski1991-c.yaml";
+const std::string kCamA = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
+const std::string kCamB = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-b.yaml";
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+}  // namespace
+
+TEST(Cli, RendersImageAndReport) {
+    const fs::path d = fresh_dir("radiosa_cli_render");
+    const CliRun r = run({"render", kScene, "--camera", kCamA, "-o", (d / "a.png").string(), "-o",
+                       (d / "a.exr").string(), "--report", (d / "a.json").string(), "--width", "64",
+                       "--height", "48", "--samples", "2"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("closure max"), std::string::npos);
+    const Image png = read_image((d / "a.png").string());
+    EXPECT_EQ(png.width, 64);
+    EXPECT_EQ(png.height, 48);
+    EXPECT_EQ(read_image((d / "a.exr").string()).width, 64);
+    std::ifstream in(d / "a.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["patches"], 86);
+    EXPECT_EQ(j["gauss_points"], 6);
+    for (const char* k : {"form_factors_s", "solve_s", "render_s", "total_s"}) EXPECT_GE(j["timings"][k].get<double>(), 0.0);
+    EXPECT_LT(j["reciprocity_max_error"].get<double>(), 1e-13);
+    EXPECT_LT(j["closure_max_error"].get<double>(), 0.15);
+    EXPECT_GT(j["energy_balance_error"].get<double>(), 0.0);
+    // Nothing but the outputs is left behind (no temporary files).
+    EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 3);
+    fs::remove_all(d);
+}
+
+TEST(Cli, PaperImagesLookRight) {
+    // A: the sphere in the middle is blue; B: the lit face 3 shows behind the sphere;
+    // C: the single emitting ceiling patch is white, the rest of the ceiling is not.
+    const fs::path d = fresh_dir("radiosa_cli_abc");
+    auto render = [&](const std::string& scene, const std::string& cam, const std::string& name) {
+        const CliRun r = run({"render", scene, "--camera", cam, "-o", (d / name).string(), "--width", "128",
+                           "--height", "128", "--samples", "1", "-q"});
+        EXPECT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(r.out, "");
+        return read_image((d / name).string());
+    };
+    const Image a = render(kScene, kCamA, "a.exr");
+    const Rgb sphere = a.pixel(64, 64);
+    EXPECT_GT(sphere.b, 1.3 * sphere.r);
+    const Image b = render(kScene, kCamB, "b.exr");
+    EXPECT_GT(b.pixel(36, 64).r, 1.27);  // face 3 behind: its radiosity includes E = 1.27
+    EXPECT_LT(b.pixel(64, 64).b, b.pixel(36, 64).b);
+    const Image c = render(kSceneC, kCamA, "c.exr");
+    EXPECT_GT(c.pixel(64, 20).r, 7.0);  // centre of the ceiling, seen through face 3
+    EXPECT_LT(c.pixel(20, 20).r, 1.0);
+    fs::remove_all(d);
+}
+
+TEST(Cli, BadInputGivesOneMessageAndExitCodeOne) {
+    CliRun r = run({"render", "no/such.yaml", "--camera", kCamA});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "error: no/such.yaml: no such file\n");
+    r = run({"render", kScene, "--camera", kCamA, "--widht", "3"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u);
+    r = run({"render", kScene, "--camera", kCamA, "--width", "0"});
+    EXPECT_EQ(r.code, 1);
+    r = run({"render", kScene, "--camera", kCamA, "--solver", "magic"});
+    EXPECT_EQ(r.code, 1);
+    const fs::path d = fresh_dir("radiosa_cli_bad");
+    std::ofstream(d / "bad.yaml") << "surfaces:\n  - name: s\n    type: sphere\n    center: [0, 0, 0]\n"
+                                     "    radius: -2\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n";
+    r = run({"render", (d / "bad.yaml").string(), "--camera", kCamA, "-o", (d / "x.png").string()});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "error: " + (d / "bad.yaml").string() + ":5:13: radius must be > 0, got -2\n");
+    EXPECT_FALSE(fs::exists(d / "x.png"));
+    fs::remove_all(d);
+}
+
+TEST(Cli, UnwritableOutputFailsBeforeAnyWork) {
+    CliRun r = run({"render", kScene, "--camera", kCamA, "-o", "/nonexistent-radiosa/a.png"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err,
+              "error: /nonexistent-radiosa/a.png: directory '/nonexistent-radiosa' does not exist (create it or "
+              "choose another output path)\n");
+    r = run({"render", kScene, "--camera", kCamA, "-o", "/tmp/a.unknownformat"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("no image writer"), std::string::npos);
+    EXPECT_FALSE(fs::exists("/tmp/a.unknownformat"));
+}
+
+TEST(Cli, HelpExitsZero) {
+    const CliRun r = run({"--help"});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("render"), std::string::npos);
+}
+
+}  // namespace radiosa
