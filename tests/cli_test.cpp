@@ -113,9 +113,10 @@ TEST(Cli, UnwritableOutputFailsBeforeAnyWork) {
     EXPECT_EQ(r.err,
               "error: /nonexistent-radiosa/a.png: directory '/nonexistent-radiosa' does not exist (create it or "
               "choose another output path)\n");
-    r = run({"render", kScene, "--camera", kCamA, "-o", "/tmp/a.unknownformat"});
+    r = run({"render", kScene, "--camera", kCamA, "-o", "/tmp/a.unknownformat", "--report", "/tmp/a-unknown.json"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("no image writer"), std::string::npos);
+    EXPECT_EQ(r.err, "error: /tmp/a.unknownformat: no image writer for '.unknownformat' (use .png or .exr)\n");
+    EXPECT_FALSE(fs::exists("/tmp/a-unknown.json"));  // refused before any work
     EXPECT_FALSE(fs::exists("/tmp/a.unknownformat"));
 }
 

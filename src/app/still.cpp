@@ -22,7 +22,7 @@ namespace radiosa {
 StillReport run_still(const StillJob& job) {
     const Stopwatch total;
     StillReport r;
-    for (const auto& out : job.outputs) check_output_path(out);
+    for (const auto& out : job.outputs) check_image_output(out);
     if (job.report_path) check_output_path(*job.report_path);
 
     std::unique_ptr<tbb::global_control> limit;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 #include "util/atomic_file.h"
 #include "util/error.h"
@@ -17,13 +18,29 @@ unsigned char encode_srgb8(double v) {
     return static_cast<unsigned char>(std::lround(255.0 * s));
 }
 
-void write_image(const Image& img, const std::string& path, double exposure_stops) {
+namespace {
+std::string lower_extension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext;
+}
+std::unique_ptr<OIIO::ImageOutput> create_writer(const std::string& path) {
+    auto out = OIIO::ImageOutput::create(path);  // by the final name's extension
+    if (!out) throw Error(path + ": no image writer for '" + lower_extension(path) + "' (use .png or .exr)");
+    return out;
+}
+}  // namespace
+
+void check_image_output(const std::string& path) {
+    check_output_path(path);
+    create_writer(path);
+}
+
+void write_image(const Image& img, const std::string& path, double exposure_stops) {
+    const std::string ext = lower_extension(path);
     check_output_path(path);
     AtomicFile file(path);
-    auto out = OIIO::ImageOutput::create(path);  // by the final name's extension
-    if (!out) throw Error(path + ": no image writer for '" + ext + "' (use .png or .exr)");
+    auto out = create_writer(path);
     const bool linear = ext == ".exr" || ext == ".hdr";
     OIIO::ImageSpec spec(img.width, img.height, 3, linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", linear ? "Linear" : "sRGB");

@@ -11,6 +11,10 @@ namespace radiosa {
 
 void write_image(const Image& image, const std::string& path, double exposure_stops);
 
+// Throws Error, before any work is done, when `path` cannot be written: its directory is
+// missing or read-only, or no image writer handles its extension.
+void check_image_output(const std::string& path);
+
 // Reads an image back as linear-ish float RGB exactly as stored (for tests and checks).
 Image read_image(const std::string& path);
 
