@@ -113,7 +113,7 @@ public:
             if (can_block) {
                 // Every point of a segment between the patches lies within `reach` of the
                 // segment between their bounding centres.
-                const BoundingSphere b = s.bound(0, 1, 0, 1);
+                const BoundingSphere& b = m_geo.surface_bound(k);
                 if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach)
                     can_block = false;
             }
@@ -227,8 +227,8 @@ FormFactorChecks check_form_factors(const FormFactors& ff) {
             }
         }
         const double err = std::abs(row - 1.0);
-        if (err > c.closure_max_error || c.closure_worst_patch < 0) {
-            c.closure_max_error = std::max(c.closure_max_error, err);
+        if (c.closure_worst_patch < 0 || err > c.closure_max_error) {
+            c.closure_max_error = err;
             c.closure_worst_patch = i;
         }
     }

@@ -37,6 +37,7 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
                 m_patches.push_back(p);
             }
         const BoundingSphere b = surf.bound(0, 1, 0, 1);
+        m_surface_bounds.push_back(b);
         lo = glm::min(lo, b.center - Vec3(b.radius));
         hi = glm::max(hi, b.center + Vec3(b.radius));
     }

@@ -47,6 +47,8 @@ public:
     int patch_count() const { return static_cast<int>(m_patches.size()); }
     const Patch& patch(int i) const { return m_patches[i]; }
     const std::vector<Patch>& patches() const { return m_patches; }
+    // A sphere containing the whole of surface k.
+    const BoundingSphere& surface_bound(int k) const { return m_surface_bounds[k]; }
     // Characteristic size of the scene (diameter of its bounding sphere).
     double scale() const { return m_scale; }
 
@@ -61,6 +63,7 @@ private:
     std::vector<std::string> m_names;
     std::vector<int> m_ns, m_nt, m_first_patch;
     std::vector<Patch> m_patches;
+    std::vector<BoundingSphere> m_surface_bounds;
     double m_scale = 1.0;
 };
 

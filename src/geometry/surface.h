@@ -107,8 +107,6 @@ public:
     bool wraps_in_s() const override { return true; }
     bool pole_at_t0() const override { return true; }
     bool pole_at_t1() const override { return true; }
-    const Vec3& center() const { return m_center; }
-    double radius() const { return m_radius; }
 
 private:
     Vec3 m_center;

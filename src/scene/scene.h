@@ -45,7 +45,6 @@ struct SurfaceDesc {
 struct FormFactorSettings {
     int gauss_points = 6;   // Gauss-Legendre points per parameter (p^4 terms per pair)
     bool visibility = true; // test occlusion between quadrature points
-    FileLoc loc;
 };
 
 struct Scene {

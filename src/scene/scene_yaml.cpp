@@ -22,11 +22,7 @@ int Scene::find_surface(const std::string& name) const {
 namespace {
 
 Rgb read_rgb(const YAML::Node& node, const std::string& file, const std::string& what) {
-    if (!node.IsSequence() || node.size() != 3)
-        throw Error(loc_of(node, file), what + " must be a list of 3 numbers [r, g, b]");
-    Rgb c;
-    for (int k = 0; k < 3; ++k) c[k] = yaml_number(node[k], file, what + "[" + std::to_string(k) + "]");
-    return c;
+    return yaml_vec3(node, file, what, "[r, g, b]");
 }
 
 Rgb read_reflectance(const YAML::Node& node, const std::string& file) {
@@ -187,7 +183,6 @@ SurfaceDesc read_surface(const YAML::Node& node, const std::string& file, int in
 FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::string& file) {
     YamlMap m(node, file, "form_factors");
     FormFactorSettings f;
-    f.loc = m.loc();
     if (auto p = m.optional("gauss_points")) {
         const long long v = yaml_integer(*p, file, "gauss_points");
         if (v < 1 || v > kMaxGaussPoints)

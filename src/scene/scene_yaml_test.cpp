@@ -131,12 +131,12 @@ TEST(SceneYaml, NegativeEmissionIsRefused) {
 }
 
 TEST(SceneYaml, NegativeOrZeroRadiusIsRefused) {
-    const std::string sphere =
-        "    type: sphere\n    center: [0, 0, 0]\n    radius: -1\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n";
-    EXPECT_EQ(parse_error(with_surface(sphere)), "s.yaml:5:13: radius must be > 0, got -1");
-    std::string zero = sphere;
-    zero.replace(zero.find("-1"), 2, "0");
-    EXPECT_EQ(parse_error(with_surface(zero)), "s.yaml:5:13: radius must be > 0, got 0");
+    auto sphere = [](const char* radius) {
+        return std::string("    type: sphere\n    center: [0, 0, 0]\n    radius: ") + radius +
+               "\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n";
+    };
+    EXPECT_EQ(parse_error(with_surface(sphere("-1"))), "s.yaml:5:13: radius must be > 0, got -1");
+    EXPECT_EQ(parse_error(with_surface(sphere("0"))), "s.yaml:5:13: radius must be > 0, got 0");
 }
 
 TEST(SceneYaml, DegenerateAndNonPlanarQuadsAreRefused) {

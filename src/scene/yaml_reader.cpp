@@ -115,11 +115,10 @@ std::string yaml_string(const YAML::Node& node, const std::string& file, const s
     return node.Scalar();
 }
 
-Vec3 yaml_vec3(const YAML::Node& node, const std::string& file, const std::string& what) {
+Vec3 yaml_vec3(const YAML::Node& node, const std::string& file, const std::string& what,
+               const std::string& form) {
     if (!node.IsSequence() || node.size() != 3)
-        throw Error(loc_of(node, file), what + " must be a list of 3 numbers [x, y, z], got " +
-                                            (node.IsSequence() ? "a list of " + std::to_string(node.size())
-                                                               : describe(node)));
+        throw Error(loc_of(node, file), what + " must be a list of 3 numbers " + form);
     Vec3 v;
     for (int k = 0; k < 3; ++k)
         v[k] = yaml_number(node[k], file, what + "[" + std::to_string(k) + "]");

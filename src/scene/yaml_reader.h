@@ -27,7 +27,9 @@ double yaml_number(const YAML::Node& node, const std::string& file, const std::s
 long long yaml_integer(const YAML::Node& node, const std::string& file, const std::string& what);
 bool yaml_bool(const YAML::Node& node, const std::string& file, const std::string& what);
 std::string yaml_string(const YAML::Node& node, const std::string& file, const std::string& what);
-Vec3 yaml_vec3(const YAML::Node& node, const std::string& file, const std::string& what);
+// A list of exactly 3 finite numbers; `form` names them in messages ("[x, y, z]").
+Vec3 yaml_vec3(const YAML::Node& node, const std::string& file, const std::string& what,
+               const std::string& form = "[x, y, z]");
 
 class YamlMap {
 public:
