@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 
+#include "app/cache_cmd.h"
+#include "app/formfactors_cmd.h"
 #include "app/still.h"
 #include "util/error.h"
 
@@ -16,6 +18,22 @@ constexpr const char* kDemoCamera = "cameras/baranoski1991-a.yaml";
 const std::vector<std::string> kDemoOutputs = {"out/baranoski1991-a.png", "out/baranoski1991-a.exr"};
 constexpr const char* kDemoReport = "out/baranoski1991-a.json";
 
+void add_cache_dir_option(CLI::App* cmd, CacheSettings* cache) {
+    cmd->add_option("--cache-dir", cache->dir,
+                    "Form-factor cache directory (default: $RADIOSA_CACHE_DIR, else out/cache)");
+}
+
+void add_form_factor_options(CLI::App* cmd, std::optional<int>* gauss_points, std::optional<bool>* visibility,
+                             CacheSettings* cache) {
+    cmd->add_option("--gauss-points,-p", *gauss_points, "Gauss-Legendre points per parameter (overrides the scene)")
+        ->check(CLI::Range(1, 64));
+    cmd->add_flag_callback("--no-visibility", [visibility] { *visibility = false; },
+                           "Ignore occlusion in form factors (for comparison)");
+    add_cache_dir_option(cmd, cache);
+    cmd->add_flag_callback("--no-cache", [cache] { cache->enabled = false; },
+                           "Neither read nor write the form-factor cache");
+}
+
 void add_render_options(CLI::App* cmd, StillJob* job, bool* quiet) {
     cmd->add_option("scene", job->scene_path, "Scene file (YAML)")->required();
     cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML)")->required();
@@ -27,17 +45,24 @@ void add_render_options(CLI::App* cmd, StillJob* job, bool* quiet) {
     cmd->add_option("--samples", job->render.samples, "Sub-pixel rays per axis (S x S per pixel)")
         ->check(CLI::Range(1, 16));
     cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-    cmd->add_option("--gauss-points,-p", job->gauss_points,
-                    "Gauss-Legendre points per parameter (overrides the scene)")
-        ->check(CLI::Range(1, 64));
-    cmd->add_flag_callback("--no-visibility", [job] { job->visibility = false; },
-                           "Ignore occlusion in form factors (for comparison)");
+    add_form_factor_options(cmd, &job->gauss_points, &job->visibility, &job->cache);
     cmd->add_option_function<std::string>(
            "--solver", [job](const std::string& s) { job->solver = parse_solver_method(s); },
            "lu (default) or gauss-jordan (the 1991 paper's method)")
         ->check(CLI::IsMember({"lu", "gauss-jordan"}));
     cmd->add_option("--exposure", job->exposure, "Exposure in stops for 8-bit outputs (default 0)")
         ->check(CLI::Range(-200.0, 200.0));
+    cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");
+}
+
+void add_formfactors_options(CLI::App* cmd, FormFactorsJob* job, bool* quiet) {
+    cmd->add_option("scene", job->scene_path, "Scene file (YAML)")->required();
+    cmd->add_option("--matrix,-m", job->matrix_path,
+                    "Export the matrix: .csv (with header and patch table) or .npy (numpy.load; "
+                    "patch table beside it as <stem>.patches.csv)");
+    cmd->add_option("--report", job->report_path, "Write the JSON run report here");
+    cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    add_form_factor_options(cmd, &job->gauss_points, &job->visibility, &job->cache);
     cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");
 }
 
@@ -54,10 +79,28 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     CLI::App app{"radiosa: radiosity for curved parametric surfaces (parametric differential method)",
                  "radiosa"};
     app.require_subcommand(0, 1);
-    StillJob job;
     bool quiet = false;
+    const WarningSink warn = [&err](const std::string& w) { err << "warning: " << w << "\n"; };
+
+    StillJob job;
+    job.warn = warn;
     CLI::App* render = app.add_subcommand("render", "Render a still image of a scene");
     add_render_options(render, &job, &quiet);
+
+    FormFactorsJob ffjob;
+    ffjob.warn = warn;
+    CLI::App* formfactors =
+        app.add_subcommand("formfactors", "Compute or load a scene's form factors, check and export them");
+    add_formfactors_options(formfactors, &ffjob, &quiet);
+
+    CacheSettings cache_dir;
+    CLI::App* cache = app.add_subcommand("cache", "Inspect or empty the form-factor cache");
+    cache->require_subcommand(1, 1);
+    CLI::App* cache_list_cmd = cache->add_subcommand("list", "List cached matrices: key, scene, patches, size, age");
+    CLI::App* cache_verify_cmd =
+        cache->add_subcommand("verify", "Check every cached matrix completely; exit 1 if any is bad");
+    CLI::App* cache_clear_cmd = cache->add_subcommand("clear", "Remove cached matrices, stale temporaries and locks");
+    for (CLI::App* c : {cache_list_cmd, cache_verify_cmd, cache_clear_cmd}) add_cache_dir_option(c, &cache_dir);
 
     try {
         try {
@@ -66,12 +109,32 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             out << app.help();
             return 0;
         } catch (const CLI::ParseError& e) {
-            if (e.get_exit_code() == 0) {  // --help on a subcommand, --version
-                out << (render->parsed() ? render->help() : app.help());
+            if (e.get_exit_code() == 0) {  // --help on a subcommand
+                for (CLI::App* c : {render, formfactors, cache_list_cmd, cache_verify_cmd, cache_clear_cmd, cache})
+                    if (c->parsed()) {
+                        out << c->help();
+                        return 0;
+                    }
+                out << app.help();
                 return 0;
             }
             err << "error: " << e.what() << " (see 'radiosa --help')\n";
             return 1;
+        }
+        const std::filesystem::path dir = cache_dir.dir.empty() ? default_cache_dir() : cache_dir.dir;
+        if (cache_list_cmd->parsed()) {
+            cache_list(dir, out);
+            return 0;
+        }
+        if (cache_verify_cmd->parsed()) return cache_verify(dir, out) ? 0 : 1;
+        if (cache_clear_cmd->parsed()) {
+            cache_clear(dir, out);
+            return 0;
+        }
+        if (formfactors->parsed()) {
+            const std::string summary = run_formfactors(ffjob);
+            if (!quiet) out << summary;
+            return 0;
         }
         if (app.get_subcommands().empty()) {
             // No arguments: the built-in demo.

@@ -16,6 +16,7 @@
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/stopwatch.h"
+#include "app/report_json.h"
 
 namespace radiosa {
 
@@ -46,7 +47,7 @@ StillReport run_still(const StillJob& job) {
     r.gauss_points = ffo.gauss_points;
     r.visibility = ffo.visibility;
     clock = Stopwatch();
-    const FormFactors ff = compute_form_factors(geometry, ffo);
+    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.cache, job.warn, &r.cache);
     r.times.form_factors_s = clock.seconds();
     r.form_factor_stats = ff.stats;
     r.checks = check_form_factors(ff);
@@ -106,6 +107,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
                               {"occluder_checks", r.form_factor_stats.occluder_checks},
                               {"occluders_culled", r.form_factor_stats.occluders_culled},
                               {"segment_tests", r.form_factor_stats.segment_tests}};
+    j["form_factor_cache"] = cache_outcome_json(r.cache);
     j["solve"] = {{"method", solver_method_name(job.solver)},
                   {"factorisations", r.factorisations},
                   {"residual", r.solve.residual},
@@ -126,7 +128,7 @@ std::string still_summary(const StillJob& job, const StillReport& r) {
                   "form factors", r.times.form_factors_s, r.gauss_points,
                   r.gauss_points * r.gauss_points * r.gauss_points * r.gauss_points, st.pairs, st.pairs_culled,
                   st.segment_tests);
-    s << buf;
+    s << buf << "  " << std::string(13, ' ') << "   cache " << cache_outcome_summary(r.cache) << "\n";
     std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  %s, %d factorisation(s) for 3 channels, residual %.1e\n", "solve",
                   r.times.solve_s, solver_method_name(job.solver), r.factorisations, r.solve.residual);
     s << buf;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
 #include "render/raycast.h"
 #include "solve/solver.h"
@@ -21,6 +22,8 @@ struct StillJob {
     SolverMethod solver = SolverMethod::LU;
     double exposure = 0.0;             // stops; PNG value = radiosity * 2^exposure
     int threads = 0;                   // 0 = all cores
+    CacheSettings cache;
+    WarningSink warn = [](const std::string&) {};  // one-line warnings (damaged cache, ...)
 };
 
 struct StageTimes {
@@ -35,7 +38,8 @@ struct StillReport {
     int gauss_points = 0;
     bool visibility = true;
     int threads = 0;
-    FormFactorStats form_factor_stats;
+    FormFactorStats form_factor_stats;  // of the computation, stored with a cached matrix
+    CacheOutcome cache;
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]"
     int factorisations = 0;

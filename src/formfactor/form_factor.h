@@ -17,6 +17,10 @@ struct FormFactorOptions {
     bool visibility = true;
 };
 
+// Bumped whenever a code change alters computed form factors, so that cached matrices from
+// older builds are recomputed rather than trusted (it is part of the cache key).
+inline constexpr int kFormFactorAlgorithmVersion = 1;
+
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included
     long long pairs_culled = 0;      // proven zero without quadrature (coplanar, facing away, convex self)
@@ -29,6 +33,8 @@ struct FormFactorStats {
 struct FormFactors {
     DenseMatrix F;              // F(i, j): fraction of energy leaving i that arrives at j
     std::vector<double> area;   // exact patch areas
+    // Per-entry error estimates, row-major like F; empty when the method gives none.
+    std::vector<double> error;
     int gauss_points = 0;
     FormFactorStats stats;
 };

@@ -1,0 +1,123 @@
+#include "app/cache_cmd.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "cache/cache_file.h"
+
+namespace radiosa {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Kind { Matrix, Leftover, Other };
+
+// "<32 hex>.rff" is a cache file; "<32 hex>.tmp<pid>.rff" a temporary left by a killed run;
+// "<32 hex>.lock" a lock file.
+Kind classify(const fs::path& p) {
+    static const std::regex matrix("[0-9a-f]{32}\\.rff");
+    static const std::regex leftover("[0-9a-f]{32}(\\.tmp[0-9]+\\.rff|\\.lock)");
+    const std::string name = p.filename().string();
+    if (std::regex_match(name, matrix)) return Kind::Matrix;
+    if (std::regex_match(name, leftover)) return Kind::Leftover;
+    return Kind::Other;
+}
+
+std::vector<fs::path> entries(const fs::path& dir, Kind kind) {
+    std::vector<fs::path> v;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.is_regular_file() && classify(e.path()) == kind) v.push_back(e.path());
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+std::string human_size(std::uintmax_t b) {
+    char buf[32];
+    if (b < 10 * 1024) std::snprintf(buf, sizeof buf, "%ju B", b);
+    else if (b < 10 * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.0f KiB", b / 1024.0);
+    else std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024.0));
+    return buf;
+}
+
+std::string human_age(const fs::path& p) {
+    std::error_code ec;
+    const auto t = fs::last_write_time(p, ec);
+    if (ec) return "?";
+    const double s = std::chrono::duration<double>(fs::file_time_type::clock::now() - t).count();
+    char buf[32];
+    if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", std::max(0.0, s));
+    else if (s < 7200) std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
+    else if (s < 172800) std::snprintf(buf, sizeof buf, "%.0f h", s / 3600);
+    else std::snprintf(buf, sizeof buf, "%.0f days", s / 86400);
+    return buf;
+}
+
+}  // namespace
+
+void cache_list(const fs::path& dir, std::ostream& out) {
+    const auto files = entries(dir, Kind::Matrix);
+    out << "cache " << dir.string() << ": " << files.size() << " matrix file(s)\n";
+    if (files.empty()) return;
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%-32s  %-24s %8s %10s %9s\n", "key", "scene", "patches", "size", "age");
+    out << buf;
+    for (const auto& f : files) {
+        std::error_code ec;
+        const std::string size = human_size(fs::file_size(f, ec));
+        try {
+            const CacheFileInfo info = read_cache_info(f);
+            std::snprintf(buf, sizeof buf, "%-32s  %-24s %8llu %10s %9s\n", f.stem().string().c_str(),
+                          info.scene_name.c_str(), static_cast<unsigned long long>(info.patches), size.c_str(),
+                          human_age(f).c_str());
+        } catch (const CacheFileError& e) {
+            std::snprintf(buf, sizeof buf, "%-32s  unreadable: %s\n", f.stem().string().c_str(), e.what());
+        }
+        out << buf;
+    }
+}
+
+bool cache_verify(const fs::path& dir, std::ostream& out) {
+    const auto files = entries(dir, Kind::Matrix);
+    int bad = 0;
+    for (const auto& f : files) {
+        try {
+            CacheFileInfo info;
+            read_cache_file(f, std::nullopt, nullptr, &info);
+            if (info.key.hex() != f.stem().string())
+                throw CacheFileError("holds key " + info.key.hex() + ", which does not match its file name");
+            out << "ok   " << f.string() << " (" << info.scene_name << ", " << info.patches << " patches, "
+                << info.layout << (info.compression == "zstd" ? ", zstd" : "") << ")\n";
+        } catch (const CacheFileError& e) {
+            ++bad;
+            out << "BAD  " << f.string() << ": " << e.what() << "\n";
+        }
+    }
+    const auto leftovers = entries(dir, Kind::Leftover);
+    out << files.size() << " file(s) checked, " << bad << " bad";
+    if (!leftovers.empty()) out << "; " << leftovers.size() << " lock or temporary file(s) ('radiosa cache clear' removes them)";
+    out << "\n";
+    return bad == 0;
+}
+
+void cache_clear(const fs::path& dir, std::ostream& out) {
+    std::uintmax_t bytes = 0;
+    int count = 0;
+    for (Kind k : {Kind::Matrix, Kind::Leftover})
+        for (const auto& f : entries(dir, k)) {
+            std::error_code ec;
+            const std::uintmax_t size = fs::file_size(f, ec);
+            if (fs::remove(f, ec)) {
+                ++count;
+                bytes += ec ? 0 : size;
+            }
+        }
+    out << "removed " << count << " file(s), " << human_size(bytes) << ", from " << dir.string() << "\n";
+}
+
+}  // namespace radiosa

@@ -1,0 +1,113 @@
+#pragma once
+// The on-disk form-factor matrix: its key, its file format, and the compute-or-load policy.
+//
+// A cache file is named <key>.rff, where the key is a 128-bit XXH3 hash of the canonical bytes
+// of exactly what determines the matrix (see form_factor_key). Layout, all little-endian:
+//
+//   header   magic "RADFF\r\n\x1a", u32 format version, u32 algorithm version, 16-byte key,
+//            str scene name (u32 length + UTF-8), u64 patch count, u64 surface count,
+//            u32 element type (1 = float64), u32 matrix layout (0 dense, 1 CSR),
+//            u32 compression (0 none, 1 zstd), u32 flags (bit 0: error estimates present),
+//            u64 stored size of the matrix section, u64 its uncompressed size
+//   table    per surface: str name, u32 ns, u32 nt
+//            per patch:   u32 surface, u32 is, u32 it, f64 area
+//            u32 gauss points, u32 reserved (0), 5 x i64: the culling statistics of the computation
+//            (no timings: equal inputs give byte-identical files)
+//   matrix   dense: N*N f64 row-major; CSR: (N+1) u64 row starts, nnz u32 columns, nnz f64 values;
+//            then, when flagged, N*N f64 error estimates; zstd-compressed as a whole when flagged
+//   trailer  u64 XXH3-64 checksum of every preceding byte
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "formfactor/form_factor.h"
+
+namespace radiosa {
+
+struct Scene;
+class SceneGeometry;
+
+inline constexpr std::uint32_t kCacheFormatVersion = 1;
+
+struct CacheKey {
+    std::array<std::uint8_t, 16> bytes{};
+    std::string hex() const;
+    bool operator==(const CacheKey&) const = default;
+};
+
+// Hash of each surface's type, geometry and subdivision (in scene order), the quadrature and
+// visibility settings, the element precision and kFormFactorAlgorithmVersion. Names,
+// reflectance, emission, camera, image and thread settings are deliberately left out.
+CacheKey form_factor_key(const Scene& scene, const FormFactorOptions& options);
+
+// What a cache file says about itself without reading the matrix.
+struct CacheFileInfo {
+    std::uint32_t format_version = 0;
+    std::uint32_t algorithm_version = 0;
+    CacheKey key;
+    std::string scene_name;
+    std::uint64_t patches = 0;
+    std::uint64_t surfaces = 0;
+    std::string layout;       // "dense" or "csr"
+    std::string compression;  // "none" or "zstd"
+    bool has_error_estimates = false;
+};
+
+// A cache file that cannot be used; what() is the reason, one line.
+struct CacheFileError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Writes atomically (temporary name, then rename). Throws Error when it cannot be written.
+// Chooses the smaller of the dense and CSR layouts, and compresses with zstd when that
+// saves at least a quarter of the bytes.
+void write_cache_file(const std::filesystem::path& path, const CacheKey& key, const std::string& scene_name,
+                      const SceneGeometry& geometry, const FormFactors& ff);
+
+// Header only. Throws CacheFileError.
+CacheFileInfo read_cache_info(const std::filesystem::path& path);
+
+// Reads and checks everything: magic, versions, checksum, sizes, and finite non-negative
+// entries; with `expected_key`, the key; with `geometry`, that the patch table matches it
+// (surface order, subdivision, patch indices and areas). Throws CacheFileError.
+FormFactors read_cache_file(const std::filesystem::path& path, const std::optional<CacheKey>& expected_key,
+                            const SceneGeometry* geometry, CacheFileInfo* info = nullptr);
+
+// ---- the policy: where the cache lives and how a run uses it ----
+
+struct CacheSettings {
+    bool enabled = true;
+    std::filesystem::path dir;  // empty: default_cache_dir()
+};
+
+// $RADIOSA_CACHE_DIR if set and not empty, else "out/cache".
+std::filesystem::path default_cache_dir();
+
+enum class CacheStatus { Off, Hit, Miss, Rebuilt };
+const char* cache_status_name(CacheStatus s);
+
+struct CacheOutcome {
+    CacheStatus status = CacheStatus::Off;
+    std::string reason;      // why an existing file was rebuilt, or why nothing was written
+    std::string file;        // the cache file used or written ("" when off)
+    std::string key;         // hex
+    double load_s = 0.0;     // reading (and checking) the file, hit or not
+    double compute_s = 0.0;  // computing the matrix
+    double write_s = 0.0;    // writing the file
+    double wait_s = 0.0;     // waiting for another process computing the same matrix
+    bool written = false;
+};
+
+using WarningSink = std::function<void(const std::string&)>;
+
+// Loads the matrix for this scene and these options from the cache, or computes it and stores
+// it. Damaged, stale or foreign files are reported through `warn` (one line each) and rebuilt;
+// an unwritable cache is reported and the run goes on. Concurrent processes computing the same
+// key serialise on a lock file, so the matrix is computed once and the file written once.
+FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
+                                const CacheSettings& settings, const WarningSink& warn, CacheOutcome* outcome);
+
+}  // namespace radiosa
