@@ -2,9 +2,13 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <iostream>
+
+#include <unistd.h>
 
 #include "app/cache_cmd.h"
 #include "app/formfactors_cmd.h"
+#include "app/sequence_job.h"
 #include "app/still.h"
 #include "util/error.h"
 
@@ -12,11 +16,11 @@ namespace radiosa {
 
 namespace {
 
-// The built-in demo: the paper's image A.
+// The built-in demo: an orbit of the paper's scene with a relighting sweep and a colour change.
 constexpr const char* kDemoScene = "scenes/baranoski1991.yaml";
-constexpr const char* kDemoCamera = "cameras/baranoski1991-a.yaml";
-const std::vector<std::string> kDemoOutputs = {"out/baranoski1991-a.png", "out/baranoski1991-a.exr"};
-constexpr const char* kDemoReport = "out/baranoski1991-a.json";
+constexpr const char* kDemoSequence = "cameras/demo.yaml";
+constexpr const char* kDemoOutput = "out/demo.mp4";
+constexpr const char* kDemoReport = "out/demo.json";
 
 void add_cache_dir_option(CLI::App* cmd, CacheSettings* cache) {
     cmd->add_option("--cache-dir", cache->dir,
@@ -34,11 +38,15 @@ void add_form_factor_options(CLI::App* cmd, std::optional<int>* gauss_points, st
                            "Neither read nor write the form-factor cache");
 }
 
-void add_render_options(CLI::App* cmd, StillJob* job, bool* quiet) {
-    cmd->add_option("scene", job->scene_path, "Scene file (YAML)")->required();
-    cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML)")->required();
+void add_render_options(CLI::App* cmd, StillJob* job, std::string* sequence, int* crf, bool* quiet) {
+    cmd->add_option("scene", job->scene_path, "Scene file (YAML); optional with a sequence that names its scene");
+    auto* camera = cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML): render one still image");
+    cmd->add_option("--sequence,-s", *sequence, "Sequence file (YAML): render an animation")->excludes(camera);
     cmd->add_option("-o,--output", job->outputs,
-                    "Output image; .png (8-bit sRGB) or .exr (linear float). Repeatable");
+                    "Output. Still: .png (8-bit sRGB) or .exr (linear float). Sequence: .mp4 (H.264) or "
+                    "numbered images such as out/frames/%04d.png. Repeatable");
+    cmd->add_option("--crf", *crf, "Video quality, x264 constant rate factor (0 lossless .. 51; default 18)")
+        ->check(CLI::Range(0, 51));
     cmd->add_option("--report", job->report_path, "Write the JSON run report here");
     cmd->add_option("--width", job->render.width, "Image width in pixels")->check(CLI::Range(1, 16384));
     cmd->add_option("--height", job->render.height, "Image height in pixels")->check(CLI::Range(1, 16384));
@@ -66,6 +74,11 @@ void add_formfactors_options(CLI::App* cmd, FormFactorsJob* job, bool* quiet) {
     cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");
 }
 
+std::string default_sequence_output(const std::string& sequence) {
+    namespace fs = std::filesystem;
+    return (fs::path("out") / (fs::path(sequence).stem().string() + ".mp4")).string();
+}
+
 std::string default_output(const StillJob& job) {
     namespace fs = std::filesystem;
     return (fs::path("out") / (fs::path(job.scene_path).stem().string() + "-" +
@@ -84,8 +97,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
     StillJob job;
     job.warn = warn;
-    CLI::App* render = app.add_subcommand("render", "Render a still image of a scene");
-    add_render_options(render, &job, &quiet);
+    std::string sequence;
+    int crf = 18;
+    CLI::App* render = app.add_subcommand(
+        "render", "Render a still (--camera) or an animation (--sequence); with no arguments, the demo");
+    add_render_options(render, &job, &sequence, &crf, &quiet);
 
     FormFactorsJob ffjob;
     ffjob.warn = warn;
@@ -136,15 +152,40 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             if (!quiet) out << summary;
             return 0;
         }
-        if (app.get_subcommands().empty()) {
-            // No arguments: the built-in demo.
+        const bool demo = app.get_subcommands().empty() ||
+                          (job.scene_path.empty() && job.camera_path.empty() && sequence.empty());
+        if (demo) {
+            sequence = kDemoSequence;
             job.scene_path = kDemoScene;
-            job.camera_path = kDemoCamera;
-            job.outputs = kDemoOutputs;
-            job.report_path = kDemoReport;
-        } else if (job.outputs.empty()) {
-            job.outputs.push_back(default_output(job));
+            if (job.outputs.empty()) job.outputs = {kDemoOutput};
+            if (!job.report_path) job.report_path = kDemoReport;
         }
+        if (!sequence.empty()) {
+            SequenceJob sj;
+            sj.scene_path = job.scene_path;
+            sj.sequence_path = sequence;
+            sj.outputs = job.outputs.empty() ? std::vector<std::string>{default_sequence_output(sequence)} : job.outputs;
+            sj.report_path = job.report_path;
+            if (render->count("--width")) sj.width = job.render.width;
+            if (render->count("--height")) sj.height = job.render.height;
+            if (render->count("--samples")) sj.samples = job.render.samples;
+            sj.gauss_points = job.gauss_points;
+            sj.visibility = job.visibility;
+            sj.solver = job.solver;
+            sj.exposure = job.exposure;
+            sj.crf = crf;
+            sj.threads = job.threads;
+            sj.cache = job.cache;
+            sj.warn = warn;
+            if (!quiet && &err == &std::cerr && ::isatty(2)) sj.progress = &err;
+            const SequenceReport report = run_sequence_job(sj);
+            if (!quiet) out << sequence_summary(sj, report);
+            return 0;
+        }
+        if (job.camera_path.empty())
+            throw Error("render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation");
+        if (job.scene_path.empty()) throw Error("render: a still needs the scene file (radiosa render SCENE.yaml --camera ...)");
+        if (job.outputs.empty()) job.outputs.push_back(default_output(job));
         const StillReport report = run_still(job);
         if (!quiet) out << still_summary(job, report);
         return 0;

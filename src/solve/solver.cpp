@@ -125,15 +125,32 @@ double RadiositySolver::factorise_seconds() const { return m->factorise_s; }
 std::vector<Rgb> RadiositySolver::solve(const std::vector<Rgb>& E) const {
     const int n = static_cast<int>(E.size());
     std::vector<Rgb> B(n, Rgb(0.0));
+    int solved = 0;
     for (int c = 0; c < 3; ++c) {
+        // A channel with the same reflectance and emission as an earlier one has its answer.
+        int same = -1;
+        for (int c2 = 0; c2 < c && same < 0; ++c2) {
+            bool eq = m->slot[c2] == m->slot[c];
+            for (int i = 0; i < n && eq; ++i) eq = E[i][c] == E[i][c2];
+            if (eq) same = c2;
+        }
+        if (same >= 0) {
+            for (int i = 0; i < n; ++i) B[i][c] = B[i][same];
+            continue;
+        }
         Eigen::VectorXd e(n);
         for (int i = 0; i < n; ++i) e[i] = E[i][c];
         Eigen::VectorXd x;
-        if (e.isZero(0.0)) x = Eigen::VectorXd::Zero(n);  // no light in this channel
-        else if (m->method == SolverMethod::LU) x = m->lu[m->slot[c]].solve(e);
-        else x = gauss_jordan(m->systems[m->slot[c]], e);
+        if (e.isZero(0.0)) {
+            x = Eigen::VectorXd::Zero(n);  // no light in this channel
+        } else {
+            ++solved;
+            if (m->method == SolverMethod::LU) x = m->lu[m->slot[c]].solve(e);
+            else x = gauss_jordan(m->systems[m->slot[c]], e);
+        }
         for (int i = 0; i < n; ++i) B[i][c] = x[i];
     }
+    m_last_channel_solves = solved;
     return B;
 }
 

@@ -38,11 +38,15 @@ public:
 
     // Channels with identical reflectance share one factorisation.
     int factorisations() const;
+    // Substitutions (or eliminations) the last solve() ran: channels with identical
+    // reflectance and emission, and dark channels, need none of their own.
+    int last_channel_solves() const { return m_last_channel_solves; }
     double factorise_seconds() const;
 
 private:
     struct Impl;
     std::unique_ptr<Impl> m;
+    mutable int m_last_channel_solves = 0;
 };
 
 struct SolveDiagnostics {

@@ -1,0 +1,294 @@
+#include "app/sequence_job.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "app/report_json.h"
+#include "encode/frame_sink.h"
+#include "geometry/scene_geometry.h"
+#include "render/camera.h"
+#include "render/shading.h"
+#include "scene/scene.h"
+#include "schedule/sequence.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+#include "util/stopwatch.h"
+
+namespace radiosa {
+
+namespace {
+
+// Frames go to the outputs on their own thread while the next frames render. The queue is
+// short so that memory stays bounded; an output failure stops the job at the next frame.
+class EncoderThread {
+public:
+    EncoderThread(std::vector<std::unique_ptr<FrameSink>> sinks, std::vector<FrameRecord>* records)
+        : m_sinks(std::move(sinks)), m_records(records), m_thread([this] { loop(); }) {}
+    ~EncoderThread() {
+        close();
+        if (m_thread.joinable()) m_thread.join();
+    }
+
+    void push(int frame, std::shared_ptr<const Image> image) {
+        std::unique_lock lock(m_mutex);
+        m_space.wait(lock, [&] { return m_queue.size() < 4 || m_error; });
+        if (m_error) std::rethrow_exception(m_error);
+        m_queue.emplace_back(frame, std::move(image));
+        m_ready.notify_one();
+    }
+    // Waits for every frame, completes the outputs; rethrows an output failure.
+    void finish() {
+        close();
+        m_thread.join();
+        if (m_error) std::rethrow_exception(m_error);
+        for (auto& s : m_sinks) s->finish();
+    }
+
+private:
+    void close() {
+        std::lock_guard lock(m_mutex);
+        m_closed = true;
+        m_ready.notify_one();
+    }
+    void loop() {
+        for (;;) {
+            std::pair<int, std::shared_ptr<const Image>> item;
+            {
+                std::unique_lock lock(m_mutex);
+                m_ready.wait(lock, [&] { return !m_queue.empty() || m_closed; });
+                if (m_queue.empty()) return;
+                item = std::move(m_queue.front());
+                m_queue.pop_front();
+                m_space.notify_one();
+            }
+            try {
+                const Stopwatch clock;
+                for (auto& s : m_sinks) s->write(item.first, *item.second);
+                (*m_records)[item.first].encode_s = clock.seconds();
+            } catch (...) {
+                std::lock_guard lock(m_mutex);
+                m_error = std::current_exception();
+                m_space.notify_all();
+                return;
+            }
+        }
+    }
+
+    std::vector<std::unique_ptr<FrameSink>> m_sinks;
+    std::vector<FrameRecord>* m_records;
+    std::mutex m_mutex;
+    std::condition_variable m_ready, m_space;
+    std::deque<std::pair<int, std::shared_ptr<const Image>>> m_queue;
+    bool m_closed = false;
+    std::exception_ptr m_error;
+    std::thread m_thread;
+};
+
+void print_progress(std::ostream& out, int done, int total, double elapsed) {
+    const double rate = elapsed > 0 ? done / elapsed : 0.0;
+    const double eta = rate > 0 ? (total - done) / rate : 0.0;
+    const int width = 30, filled = total > 0 ? done * width / total : width;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "\r  [%s%s] %d/%d frames  %.1f frames/s  ETA %.0f s ",
+                  std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), done, total, rate, eta);
+    out << buf << std::flush;
+}
+
+}  // namespace
+
+SequenceReport run_sequence_job(const SequenceJob& job) {
+    const Stopwatch total;
+    SequenceReport r;
+    if (job.report_path) check_output_path(*job.report_path);
+    std::unique_ptr<tbb::global_control> limit;
+    if (job.threads > 0)
+        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, job.threads);
+    r.threads = job.threads > 0 ? job.threads : tbb::info::default_concurrency();
+
+    Stopwatch clock;
+    r.scene_path = job.scene_path.empty() ? sequence_scene_path(job.sequence_path) : job.scene_path;
+    if (r.scene_path.empty())
+        throw Error(job.sequence_path + ": the sequence names no scene; add 'scene: path' to it or give SCENE.yaml");
+    const Scene scene = load_scene(r.scene_path);
+    const Sequence seq = load_sequence(job.sequence_path, &scene);
+    RenderOptions& ro = r.render;
+    ro.width = job.width.value_or(seq.width.value_or(ro.width));
+    ro.height = job.height.value_or(seq.height.value_or(ro.height));
+    ro.samples = job.samples.value_or(seq.samples.value_or(ro.samples));
+    for (const auto& o : job.outputs) check_sequence_output(o, ro.width, ro.height);
+    const SceneGeometry geometry(scene);
+    const Materials base = patch_materials(scene, geometry);
+    const Plan plan = plan_sequence(seq, base, geometry);
+    r.load_s = clock.seconds();
+    r.scene_name = scene.name;
+    r.patches = geometry.patch_count();
+    r.surfaces = geometry.surface_count();
+    r.fps = seq.fps;
+
+    std::vector<FrameRecord>& frames = r.frames;
+    frames.resize(plan.frames.size());
+    for (std::size_t f = 0; f < frames.size(); ++f) frames[f].plan = plan.frames[f];
+
+    // Form factors: once for the whole sequence.
+    FormFactorOptions ffo;
+    ffo.gauss_points = job.gauss_points.value_or(scene.form_factors.gauss_points);
+    ffo.visibility = job.visibility.value_or(scene.form_factors.visibility);
+    r.gauss_points = ffo.gauss_points;
+    r.visibility = ffo.visibility;
+    clock = Stopwatch();
+    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.cache, job.warn, &r.cache);
+    frames[0].form_factors_s = clock.seconds();
+    frames[0].form_factors = r.cache.status == CacheStatus::Hit ? "cached" : "computed";
+    r.form_factor_stats = ff.stats;
+
+    std::vector<std::unique_ptr<FrameSink>> sinks;
+    SinkOptions so;
+    so.fps = seq.fps;
+    so.exposure = job.exposure;
+    so.crf = job.crf;
+    for (const auto& o : job.outputs) sinks.push_back(make_frame_sink(o, ro.width, ro.height, so));
+    EncoderThread encoder(std::move(sinks), &frames);
+
+    std::vector<std::unique_ptr<RadiositySolver>> solvers(plan.reflectances.size());
+    std::vector<std::vector<Rgb>> solutions(plan.solutions.size());
+    std::unique_ptr<NodeRadiosity> nodes;
+    int nodes_solution = -1;
+    std::shared_ptr<const Image> image;
+    const Stopwatch loop_clock;
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+        FrameRecord& rec = frames[f];
+        const FramePlan& fp = rec.plan;
+        clock = Stopwatch();
+        if (fp.solve != SolveAction::Reused) {
+            auto& solver = solvers[fp.reflectance_set];
+            if (!solver) {
+                solver = std::make_unique<RadiositySolver>(ff.F, plan.reflectances[fp.reflectance_set], job.solver);
+                r.factorisations += solver->factorisations();
+            }
+            solutions[fp.solution] = solver->solve(plan.solutions[fp.solution].E);
+            r.channel_solves += solver->last_channel_solves();
+        }
+        rec.solve_s = clock.seconds();
+        clock = Stopwatch();
+        if (fp.render == RenderAction::Rendered) {
+            if (nodes_solution != fp.solution) {
+                nodes = std::make_unique<NodeRadiosity>(geometry, solutions[fp.solution], plan.solutions[fp.solution].E);
+                nodes_solution = fp.solution;
+            }
+            const PinholeCamera cam(fp.camera, ro.width, ro.height);
+            image = std::make_shared<const Image>(render_image(geometry, *nodes, cam, ro));
+            ++r.renders;
+        } else {
+            ++r.copies;
+        }
+        rec.render_s = clock.seconds();
+        if (job.on_frame) job.on_frame(static_cast<int>(f), *image);
+        encoder.push(static_cast<int>(f), image);
+        if (job.progress) print_progress(*job.progress, static_cast<int>(f + 1), seq.frames, loop_clock.seconds());
+    }
+    encoder.finish();
+    if (job.progress) *job.progress << "\n";
+
+    r.substitutions = plan.substitutions();
+    r.reflectance_sets = plan.factorisations();
+    for (const auto& rec : frames) {
+        r.form_factors_s += rec.form_factors_s;
+        r.solve_s += rec.solve_s;
+        r.render_s += rec.render_s;
+        r.encode_s += rec.encode_s;
+    }
+    r.total_s = total.seconds();
+    if (job.report_path) write_text_file(*job.report_path, sequence_report_json(job, r) + "\n");
+    return r;
+}
+
+std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r) {
+    using nlohmann::json;
+    json j;
+    j["scene"] = r.scene_path;
+    j["scene_name"] = r.scene_name;
+    j["sequence"] = job.sequence_path;
+    j["outputs"] = job.outputs;
+    j["surfaces"] = r.surfaces;
+    j["patches"] = r.patches;
+    j["gauss_points"] = r.gauss_points;
+    j["visibility"] = r.visibility;
+    j["threads"] = r.threads;
+    j["fps"] = r.fps;
+    j["frame_count"] = r.frames.size();
+    j["duration_s"] = r.frames.size() / r.fps;
+    j["image"] = {{"width", r.render.width}, {"height", r.render.height},
+                  {"samples_per_axis", r.render.samples}, {"exposure_stops", job.exposure}, {"crf", job.crf}};
+    j["form_factor_cache"] = cache_outcome_json(r.cache);
+    j["form_factor_stats"] = {{"pairs", r.form_factor_stats.pairs},
+                              {"pairs_culled", r.form_factor_stats.pairs_culled},
+                              {"occluder_checks", r.form_factor_stats.occluder_checks},
+                              {"occluders_culled", r.form_factor_stats.occluders_culled},
+                              {"segment_tests", r.form_factor_stats.segment_tests}};
+    j["totals"] = {{"load_s", r.load_s},
+                   {"form_factors_s", r.form_factors_s},
+                   {"solve_s", r.solve_s},
+                   {"render_s", r.render_s},
+                   {"encode_s", r.encode_s},
+                   {"total_s", r.total_s},
+                   {"reflectance_sets", r.reflectance_sets},
+                   {"factorisations", r.factorisations},
+                   {"solves", r.substitutions},
+                   {"channel_solves", r.channel_solves},
+                   {"renders", r.renders},
+                   {"copies", r.copies}};
+    json frames = json::array();
+    for (const FrameRecord& f : r.frames)
+        frames.push_back({{"frame", f.plan.frame},
+                          {"time_s", f.plan.time_s},
+                          {"form_factors", f.form_factors},
+                          {"solve", solve_action_name(f.plan.solve)},
+                          {"render", render_action_name(f.plan.render)},
+                          {"form_factors_s", f.form_factors_s},
+                          {"solve_s", f.solve_s},
+                          {"render_s", f.render_s},
+                          {"encode_s", f.encode_s}});
+    j["frames"] = frames;
+    return j.dump(2);
+}
+
+std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
+    char buf[256];
+    std::string s = "radiosa render " + r.scene_path + " (" + std::to_string(r.patches) + " patches), sequence " +
+                    job.sequence_path + ": " + std::to_string(r.frames.size()) + " frames at " +
+                    std::to_string(static_cast<int>(r.fps)) + " fps\n";
+    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s\n", "load", r.load_s);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  once, cache %s\n", "form factors", r.form_factors_s,
+                  cache_status_name(r.cache.status));
+    s += buf;
+    std::snprintf(buf, sizeof buf,
+                  "  %-13s %8.3f s  %d reflectance set(s): %d channel factorisation(s); %d distinct "
+                  "state(s) solved: %d channel substitution(s); %zu frames\n",
+                  "solve", r.solve_s, r.reflectance_sets, r.factorisations, r.substitutions, r.channel_solves,
+                  r.frames.size());
+    s += buf;
+    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  %d rendered, %d copied, %dx%d, %d rays/pixel, %d threads\n",
+                  "render", r.render_s, r.renders, r.copies, r.render.width, r.render.height,
+                  r.render.samples * r.render.samples, r.threads);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  (on its own thread, overlapping rendering)\n", "encode",
+                  r.encode_s);
+    s += buf;
+    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  (%.1f frames/s)\n", "total", r.total_s,
+                  r.frames.size() / std::max(r.total_s, 1e-9));
+    s += buf;
+    for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
+    if (job.report_path) s += "  wrote " + *job.report_path + "\n";
+    return s;
+}
+
+}  // namespace radiosa

@@ -1,0 +1,60 @@
+#pragma once
+// The sequence job: scene + sequence -> one form-factor matrix -> the scheduler's plan ->
+// per frame only what it needs -> video and/or numbered images, and the frame-by-frame report.
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "cache/cache_file.h"
+#include "render/raycast.h"
+#include "schedule/scheduler.h"
+#include "solve/solver.h"
+
+namespace radiosa {
+
+struct SequenceJob {
+    std::string scene_path;  // empty: the sequence's `scene:`
+    std::string sequence_path;
+    std::vector<std::string> outputs;  // .mp4 and/or patterns like out/frames/%04d.png
+    std::optional<std::string> report_path;
+    // Unset: the sequence's `image:` block, else the RenderOptions defaults.
+    std::optional<int> width, height, samples;
+    std::optional<int> gauss_points;
+    std::optional<bool> visibility;
+    SolverMethod solver = SolverMethod::LU;
+    double exposure = 0.0;
+    int crf = 18;
+    int threads = 0;
+    CacheSettings cache;
+    WarningSink warn = [](const std::string&) {};
+    std::ostream* progress = nullptr;  // a terminal: progress bar with rate and ETA
+    std::function<void(int, const Image&)> on_frame;  // sees every frame (tests)
+};
+
+struct FrameRecord {
+    FramePlan plan;
+    const char* form_factors = "reused";  // computed | cached | reused
+    double form_factors_s = 0, solve_s = 0, render_s = 0, encode_s = 0;
+};
+
+struct SequenceReport {
+    std::string scene_path, scene_name;
+    RenderOptions render;  // as resolved
+    int patches = 0, surfaces = 0, threads = 0;
+    double fps = 0;
+    int gauss_points = 0;
+    bool visibility = true;
+    CacheOutcome cache;
+    FormFactorStats form_factor_stats;
+    int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0, copies = 0;
+    std::vector<FrameRecord> frames;
+    double load_s = 0, form_factors_s = 0, solve_s = 0, render_s = 0, encode_s = 0, total_s = 0;
+};
+
+SequenceReport run_sequence_job(const SequenceJob& job);
+std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r);
+std::string sequence_summary(const SequenceJob& job, const SequenceReport& r);
+
+}  // namespace radiosa

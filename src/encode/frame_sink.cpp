@@ -1,0 +1,81 @@
+#include "encode/frame_sink.h"
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+
+#include "encode/video_writer.h"
+#include "render/image_io.h"
+#include "util/error.h"
+
+namespace radiosa {
+
+namespace {
+
+bool is_video(const std::string& path) {
+    return path.size() > 4 && (path.ends_with(".mp4") || path.ends_with(".MP4"));
+}
+
+class VideoSink : public FrameSink {
+public:
+    VideoSink(const std::string& path, int w, int h, const SinkOptions& o) : m_exposure(o.exposure) {
+        VideoOptions vo;
+        vo.width = w;
+        vo.height = h;
+        vo.fps = o.fps;
+        vo.crf = o.crf;
+        m_writer = std::make_unique<VideoWriter>(path, vo);
+    }
+    void write(int, const Image& image) override { m_writer->add_frame(to_srgb8(image, m_exposure)); }
+    void finish() override { m_writer->finish(); }
+
+private:
+    double m_exposure;
+    std::unique_ptr<VideoWriter> m_writer;
+};
+
+class ImageSequenceSink : public FrameSink {
+public:
+    ImageSequenceSink(std::string pattern, double exposure) : m_pattern(std::move(pattern)), m_exposure(exposure) {}
+    void write(int frame, const Image& image) override { write_image(image, frame_path(m_pattern, frame), m_exposure); }
+    void finish() override {}
+
+private:
+    std::string m_pattern;
+    double m_exposure;
+};
+
+}  // namespace
+
+std::string frame_path(const std::string& pattern, int frame) {
+    char buf[4096];
+    std::snprintf(buf, sizeof buf, pattern.c_str(), frame);
+    return buf;
+}
+
+void check_sequence_output(const std::string& path, int width, int height) {
+    if (is_video(path)) {
+        check_video_output(path, width, height);
+        return;
+    }
+    static const std::regex one_number("[^%]*%0?[0-9]?d[^%]*");
+    if (path.size() >= 4000 || !std::regex_match(path, one_number))
+        throw Error(path + ": a sequence is written as a video (.mp4) or as numbered images with one %d or %04d "
+                           "in the name, e.g. out/frames/%04d.png");
+    check_image_output(frame_path(path, 0));
+}
+
+std::unique_ptr<FrameSink> make_frame_sink(const std::string& path, int w, int h, const SinkOptions& o) {
+    check_sequence_output(path, w, h);
+    if (is_video(path)) return std::make_unique<VideoSink>(path, w, h, o);
+    return std::make_unique<ImageSequenceSink>(path, o.exposure);
+}
+
+std::vector<unsigned char> to_srgb8(const Image& image, double exposure) {
+    const double scale = std::exp2(exposure);
+    std::vector<unsigned char> px(image.rgb.size());
+    for (std::size_t i = 0; i < px.size(); ++i) px[i] = encode_srgb8(image.rgb[i] * scale);
+    return px;
+}
+
+}  // namespace radiosa

@@ -1,0 +1,70 @@
+#pragma once
+// An animation sequence (cameras/*.yaml with a `camera: {keys: ...}` timeline): a frame rate,
+// camera keys with holds and cuts, and light/colour events. Plain data plus its evaluation
+// at a time; the format is documented in README.md ("Sequence files").
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/camera.h"
+#include "solve/solver.h"
+
+namespace radiosa {
+
+struct Scene;
+class SceneGeometry;
+
+enum class CameraInterpolation {
+    Spline,        // cubic Hermite through the keys, Catmull-Rom tangents (time-weighted)
+    ConstantSpeed  // piecewise linear: constant angular speed along an orbit
+};
+
+struct CameraKey {
+    double time_s = 0.0;
+    double hold_s = 0.0;  // stays at this key for hold_s after time_s
+    bool cut = false;     // jump to this key at time_s instead of moving towards it
+    // The paper's form (distance D, theta, phi around look_at), when given that way; these
+    // are then what is interpolated, so an orbit stays an orbit.
+    bool orbit = false;
+    double distance = 6.0, theta_deg = 0.0, phi_deg = 90.0;
+    CameraDesc camera;    // always filled (eye from the orbit form when orbit)
+};
+
+enum class EventProperty { Emission, Reflectance };
+
+struct SequenceEvent {
+    double t0 = 0.0, t1 = 0.0;  // a set when t0 == t1, else a linear ramp over [t0, t1]
+    int surface = -1;
+    std::optional<std::pair<int, int>> patch;  // (is, it); the whole surface when absent
+    EventProperty property = EventProperty::Emission;
+    Rgb value{0.0};
+    FileLoc loc;
+};
+
+struct Sequence {
+    std::string file;
+    std::string scene_path;  // resolved against the sequence file's directory; "" if not given
+    double fps = 30.0;
+    int frames = 1;
+    CameraInterpolation interpolation = CameraInterpolation::Spline;
+    // Optional `image:` block: the size and sampling the sequence is meant for (the command
+    // line's --width/--height/--samples win).
+    std::optional<int> width, height, samples;
+    std::vector<CameraKey> keys;  // sorted by time, at least one
+    std::vector<SequenceEvent> events;  // sorted by start time (stable)
+
+    double frame_time(int f) const { return f / fps; }
+    CameraDesc camera_at(double t) const;
+    // The scene's materials with every event applied as it stands at time t.
+    Materials materials_at(const Materials& base, const SceneGeometry& geometry, double t) const;
+};
+
+inline constexpr int kMaxFrames = 100000;
+
+// Surface and patch names in events are resolved against `scene`.
+Sequence parse_sequence(const std::string& yaml_text, const std::string& filename, const Scene* scene);
+Sequence load_sequence(const std::string& path, const Scene* scene);
+// The scene a sequence file names (`scene:`), resolved against its directory; "" if none.
+std::string sequence_scene_path(const std::string& path);
+
+}  // namespace radiosa
