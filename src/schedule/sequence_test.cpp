@@ -1,0 +1,241 @@
+// Sequence files, camera interpolation and the scheduler's plans.
+#include "schedule/sequence.h"
+
+#include <gtest/gtest.h>
+
+#include "geometry/scene_geometry.h"
+#include "scene/scene.h"
+#include "schedule/scheduler.h"
+
+namespace radiosa {
+
+namespace {
+
+const std::string kSeed = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
+
+const char* kOrbitKeys = R"(camera:
+  interpolation: constant-speed
+  keys:
+    - time_s: 0
+      distance: 6
+      theta_deg: 0
+      phi_deg: 90
+    - time_s: 1
+      distance: 6
+      theta_deg: 90
+      phi_deg: 90
+)";
+
+Sequence seq(const std::string& body, const Scene* scene) { return parse_sequence(body, "s.yaml", scene); }
+
+std::string error_of(const std::string& body, const Scene* scene) {
+    try {
+        seq(body, scene);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+}  // namespace
+
+TEST(Sequence, FrameCountAndDefaults) {
+    const Scene scene = load_scene(kSeed);
+    Sequence s = seq(std::string("fps: 10\n") + kOrbitKeys, &scene);
+    EXPECT_EQ(s.frames, 11);  // up to and including the last key
+    s = seq(std::string("fps: 10\nduration_s: 1\n") + kOrbitKeys, &scene);
+    EXPECT_EQ(s.frames, 10);
+    EXPECT_DOUBLE_EQ(s.frame_time(5), 0.5);
+    EXPECT_EQ(s.interpolation, CameraInterpolation::ConstantSpeed);
+    EXPECT_EQ(s.scene_path, "");
+    s = seq(std::string("scene: ../scenes/x.yaml\nfps: 1\nimage: {width: 64, samples: 2}\n") + kOrbitKeys, &scene);
+    EXPECT_EQ(parse_sequence(std::string("scene: ../scenes/x.yaml\nfps: 1\n") + kOrbitKeys, "cams/s.yaml", &scene).scene_path,
+              "scenes/x.yaml");
+    EXPECT_EQ(s.width, 64);
+    EXPECT_FALSE(s.height.has_value());
+    EXPECT_EQ(s.samples, 2);
+}
+
+TEST(Sequence, ConstantSpeedOrbitAndSplineThroughKeys) {
+    const Scene scene = load_scene(kSeed);
+    const Sequence s = seq(std::string("fps: 10\n") + kOrbitKeys, &scene);
+    // Halfway in time is halfway in angle, on the circle of radius 6.
+    const CameraDesc mid = s.camera_at(0.5);
+    EXPECT_NEAR(mid.eye.x, 6 * std::cos(kPi / 4), 1e-12);
+    EXPECT_NEAR(mid.eye.y, 6 * std::sin(kPi / 4), 1e-12);
+    EXPECT_NEAR(mid.eye.z, 0.0, 1e-12);
+    // Before the first key and after the last the camera rests there.
+    EXPECT_NEAR(s.camera_at(-1).eye.x, 6.0, 1e-12);
+    EXPECT_NEAR(s.camera_at(5).eye.y, 6.0, 1e-12);
+
+    // A spline through three keys passes through each one, and differs from the polyline between.
+    const Sequence sp = seq(R"(fps: 10
+camera:
+  keys:
+    - {time_s: 0, position: [5, 0, 0]}
+    - {time_s: 1, position: [0, 5, 0]}
+    - {time_s: 3, position: [-5, 0, 1]}
+)", &scene);
+    EXPECT_NEAR(glm::length(sp.camera_at(1.0).eye - Vec3(0, 5, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(sp.camera_at(3.0).eye - Vec3(-5, 0, 1)), 0.0, 1e-12);
+    const Vec3 half = sp.camera_at(2.0).eye;
+    EXPECT_GT(glm::length(half - Vec3(-2.5, 2.5, 0.5)), 0.1);
+    // Catmull-Rom tangent at the middle key: (p2 - p0) / (t2 - t0), so the motion is smooth there.
+    const double h = 1e-6;
+    const Vec3 v_before = (sp.camera_at(1.0).eye - sp.camera_at(1.0 - h).eye) / h;
+    const Vec3 v_after = (sp.camera_at(1.0 + h).eye - sp.camera_at(1.0).eye) / h;
+    EXPECT_NEAR(glm::length(v_before - v_after), 0.0, 1e-3);
+    EXPECT_NEAR(v_after.x, -10.0 / 3.0, 1e-3);
+}
+
+TEST(Sequence, HoldsAndCuts) {
+    const Scene scene = load_scene(kSeed);
+    const Sequence s = seq(R"(fps: 4
+camera:
+  keys:
+    - {time_s: 0, position: [5, 0, 0], hold_s: 1}
+    - {time_s: 2, position: [0, 5, 0]}
+    - {time_s: 3, position: [0, 0, 5], up: [1, 0, 0], cut: true}
+)", &scene);
+    EXPECT_EQ(s.camera_at(0.0).eye, Vec3(5, 0, 0));
+    EXPECT_EQ(s.camera_at(0.75).eye, Vec3(5, 0, 0));  // holding
+    EXPECT_NE(s.camera_at(1.5).eye, Vec3(5, 0, 0));   // moving
+    EXPECT_EQ(s.camera_at(2.9).eye, Vec3(0, 5, 0));   // waits for the cut
+    EXPECT_EQ(s.camera_at(3.0).eye, Vec3(0, 0, 5));   // and jumps
+}
+
+TEST(Sequence, EventsSetAndRamp) {
+    const Scene scene = load_scene(kSeed);
+    const SceneGeometry g(scene);
+    const Materials base = patch_materials(scene, g);
+    const Sequence s = seq(std::string("fps: 10\n") + kOrbitKeys + R"(events:
+  - {time_s: [1, 3], surface: face3, emission: [0, 0, 0]}
+  - {time_s: [1, 3], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
+  - {time_s: 2, surface: sphere, reflectance: [1, 0.5, 0.25]}
+)", &scene);
+    const int f3 = g.patch_index(2, 1, 1), f6 = g.patch_index(5, 1, 1), f6b = g.patch_index(5, 0, 0);
+    const int sph = g.patch_index(6, 0, 0);
+    Materials m = s.materials_at(base, g, 0.5);
+    EXPECT_EQ(m.E[f3], Rgb(1.27));
+    EXPECT_EQ(m.E[f6], Rgb(0.0));
+    m = s.materials_at(base, g, 2.0);
+    EXPECT_NEAR(m.E[f3].r, 0.635, 1e-15);
+    EXPECT_NEAR(m.E[f6].g, 3.5, 1e-15);
+    EXPECT_EQ(m.E[f6b], Rgb(0.0));
+    EXPECT_EQ(m.rho[sph], Rgb(1, 0.5, 0.25));
+    EXPECT_EQ(s.materials_at(base, g, 1.99).rho[sph], Rgb(0.5, 0.5, 1.0));
+    m = s.materials_at(base, g, 3.0);
+    EXPECT_EQ(m.E[f3], Rgb(0.0));
+    EXPECT_EQ(m.E[f6], Rgb(7.0));
+}
+
+TEST(Sequence, BadFilesNameTheLineAndTheFix) {
+    const Scene scene = load_scene(kSeed);
+    EXPECT_EQ(error_of(kOrbitKeys, &scene), "s.yaml:1:1: sequence file is missing the required key 'fps'");
+    EXPECT_EQ(error_of(std::string("fps: 0\n") + kOrbitKeys, &scene), "s.yaml:1:6: fps must be in (0, 240], got 0");
+    const std::string head = std::string("fps: 10\n") + kOrbitKeys + "events:\n";
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face9, emission: [1, 1, 1]}\n", &scene),
+              "s.yaml:14:26: event 1: no surface named 'face9' in " + kSeed +
+                  " (it has face1, face2, face3, face4, face5, face6, sphere)");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, patch: [3, 0], emission: [1, 1, 1]}\n", &scene),
+              "s.yaml:14:40: event 1: surface 'face6' has patches [0..2, 0..2], not [3, 0]");
+    EXPECT_EQ(error_of(head + "  - {time_s: [2, 1], surface: face6, emission: [1, 1, 1]}\n", &scene),
+              "s.yaml:14:18: event 1: a ramp must end after it starts, got [2, 1]");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, reflectance: [1, 1.5, 1]}\n", &scene),
+              "s.yaml:14:50: reflectance must be in [0, 1], got 1.5");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, emission: [1, 1, 1], reflectance: [1, 1, 1]}\n", &scene),
+              "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, emision: [1, 1, 1]}\n", &scene),
+              "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
+    EXPECT_EQ(error_of("fps: 10\ncamera:\n  keys:\n    - {time_s: 1, position: [5, 0, 0]}\n"
+                       "    - {time_s: 1, position: [6, 0, 0]}\n", &scene),
+              "s.yaml:5:16: camera key 2: time_s 1 must be later than the previous key's time (and hold)");
+    EXPECT_EQ(error_of("fps: 10\nduration_s: 100000\n" + std::string(kOrbitKeys), &scene),
+              "s.yaml:1:1: the sequence has 1000000 frames; the limit is 100000 (lower fps or duration_s)");
+    EXPECT_EQ(error_of("fps: 10\ncamera:\n  keys: []\n", &scene),
+              "s.yaml:3:9: camera keys must be a non-empty list of {time_s, distance, theta_deg, phi_deg | position, ...}");
+    // A sequence where a camera file is expected, and the other way round.
+    try {
+        parse_camera(std::string("fps: 10\n") + kOrbitKeys, "c.yaml");
+        ADD_FAILURE();
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "c.yaml:1:1: this is a sequence file (it has fps); pass it with --sequence, not --camera");
+    }
+}
+
+// ---- the scheduler ----
+
+namespace {
+struct Planned {
+    Scene scene;
+    std::unique_ptr<SceneGeometry> geo;
+    Plan plan;
+};
+Planned plan_of(const std::string& body) {
+    Planned p{load_scene(kSeed), nullptr, {}};
+    p.geo = std::make_unique<SceneGeometry>(p.scene);
+    const Sequence s = parse_sequence(body, "s.yaml", &p.scene);
+    p.plan = plan_sequence(s, patch_materials(p.scene, *p.geo), *p.geo);
+    return p;
+}
+std::string actions(const Plan& plan) {
+    std::string s;
+    for (const auto& f : plan.frames)
+        s += std::string(1, solve_action_name(f.solve)[0]) + render_action_name(f.render)[0] + " ";
+    return s;
+}
+}  // namespace
+
+TEST(Scheduler, CameraOnlySequenceSolvesOnceAndRendersEveryFrame) {
+    const Planned p = plan_of(std::string("fps: 4\n") + kOrbitKeys);
+    EXPECT_EQ(p.plan.frames.size(), 5u);
+    EXPECT_EQ(p.plan.factorisations(), 1);
+    EXPECT_EQ(p.plan.substitutions(), 1);
+    EXPECT_EQ(p.plan.renders(), 5);
+    EXPECT_EQ(actions(p.plan), "fr rr rr rr rr ");
+}
+
+TEST(Scheduler, LightOnlySequenceFactorisesOnceAndSubstitutes) {
+    const Planned p = plan_of(R"(fps: 4
+duration_s: 2
+camera:
+  keys:
+    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 90}
+events:
+  - {time_s: [0.25, 1], surface: face3, emission: [0, 0, 0]}
+  - {time_s: [0.25, 1], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
+)");
+    // Frames at 0, .25 (ramp start, unchanged), .5, .75, 1 (end), then the light rests.
+    EXPECT_EQ(p.plan.factorisations(), 1);
+    EXPECT_EQ(p.plan.substitutions(), 4);
+    EXPECT_EQ(actions(p.plan), "fr rc sr sr sr rc rc rc ");
+}
+
+TEST(Scheduler, ColourChangeRefactorises) {
+    const Planned p = plan_of(R"(fps: 1
+duration_s: 4
+camera:
+  keys:
+    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 90}
+events:
+  - {time_s: 1, surface: sphere, reflectance: [1, 0.5, 0.25]}
+  - {time_s: 2, surface: face3, emission: [2, 2, 2]}
+  - {time_s: 3, surface: sphere, reflectance: [0.5, 0.5, 1]}
+)");
+    EXPECT_EQ(p.plan.factorisations(), 2);  // back to the first colours reuses the first factorisation
+    EXPECT_EQ(actions(p.plan), "fr fr sr sr ");
+    EXPECT_EQ(p.plan.frames[3].reflectance_set, 0);
+}
+
+TEST(Scheduler, PaperSequenceABC) {
+    const std::string path = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-abc.yaml";
+    Planned p{load_scene(sequence_scene_path(path)), nullptr, {}};
+    p.geo = std::make_unique<SceneGeometry>(p.scene);
+    const Sequence s = load_sequence(path, &p.scene);
+    const Plan plan = plan_sequence(s, patch_materials(p.scene, *p.geo), *p.geo);
+    EXPECT_EQ(actions(plan), "fr rr sr ");  // A: solve + render; B: render only; C: solve + render
+    EXPECT_NEAR(plan.frames[1].camera.eye.x, -6.0, 1e-12);
+    EXPECT_NEAR(plan.frames[2].camera.eye.x, 6.0, 1e-12);
+}
+
+}  // namespace radiosa
