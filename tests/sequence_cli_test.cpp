@@ -189,4 +189,27 @@ TEST(SequenceCli, BadOutputsAreRefusedBeforeAnyWork) {
     fs::remove_all(d);
 }
 
+TEST(SequenceCli, PaletteSequenceWritesGifAndIndexedPngsAndReportsPsnr) {
+    const fs::path d = fresh_dir("radiosa_seq_palette");
+    const fs::path seq = write_sequence(d, 10, 0.4);
+    CliRun r = run({"render", "-s", seq.string(), "--palette", "16", "-o", (d / "p.gif").string(), "-o",
+                    (d / "p%d.png").string(), "--width", "40", "--height", "30", "--samples", "1", "--report",
+                    (d / "r.json").string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("PSNR vs true colour"), std::string::npos);
+    const auto j = read_json(d / "r.json");
+    EXPECT_EQ(j["palette"]["colours"], 16);
+    EXPECT_EQ(j["palette"]["quantiser"], "median-cut");
+    const double mc = j["palette"]["psnr_db"]["median-cut"], pop = j["palette"]["psnr_db"]["popularity"];
+    EXPECT_GT(mc, 25.0);
+    EXPECT_GT(mc, pop);  // measured on the demo: 30.4 vs 23.8 dB at 16 colours
+    EXPECT_EQ(probe_video(d / "p.gif").frames, 4);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(read_image(frame_path((d / "p%d.png").string(), k)).width, 40);
+    r = run({"render", "-s", seq.string(), "--palette", "16", "-o", (d / "v.mp4").string()});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "error: " + (d / "v.mp4").string() +
+                         ": with --palette, write a .gif or numbered indexed PNGs such as out/frames/%04d.png\n");
+    fs::remove_all(d);
+}
+
 }  // namespace radiosa

@@ -38,7 +38,16 @@ void add_form_factor_options(CLI::App* cmd, std::optional<int>* gauss_points, st
                            "Neither read nor write the form-factor cache");
 }
 
-void add_render_options(CLI::App* cmd, StillJob* job, std::string* sequence, int* crf, bool* quiet) {
+struct SequenceOptions {
+    std::string sequence;
+    int crf = 18;
+    int palette = 0;
+    Quantiser quantiser = Quantiser::MedianCut;
+};
+
+void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool* quiet) {
+    std::string* sequence = &so->sequence;
+    int* crf = &so->crf;
     cmd->add_option("scene", job->scene_path, "Scene file (YAML); optional with a sequence that names its scene");
     auto* camera = cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML): render one still image");
     cmd->add_option("--sequence,-s", *sequence, "Sequence file (YAML): render an animation")->excludes(camera);
@@ -47,6 +56,14 @@ void add_render_options(CLI::App* cmd, StillJob* job, std::string* sequence, int
                     "numbered images such as out/frames/%04d.png. Repeatable");
     cmd->add_option("--crf", *crf, "Video quality, x264 constant rate factor (0 lossless .. 51; default 18)")
         ->check(CLI::Range(0, 51));
+    cmd->add_option("--palette", so->palette,
+                    "Sequence: one palette of N colours (2..256) for all frames, as the 1991 paper's display; "
+                    "outputs .gif or numbered indexed .png")
+        ->check(CLI::Range(2, 256));
+    cmd->add_option_function<std::string>(
+           "--quantiser", [so](const std::string& s) { so->quantiser = parse_quantiser(s); },
+           "Palette quantiser: median-cut (default) or popularity (the paper's)")
+        ->check(CLI::IsMember({"median-cut", "popularity"}));
     cmd->add_option("--report", job->report_path, "Write the JSON run report here");
     cmd->add_option("--width", job->render.width, "Image width in pixels")->check(CLI::Range(1, 16384));
     cmd->add_option("--height", job->render.height, "Image height in pixels")->check(CLI::Range(1, 16384));
@@ -97,11 +114,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
     StillJob job;
     job.warn = warn;
-    std::string sequence;
-    int crf = 18;
+    SequenceOptions so;
+    std::string& sequence = so.sequence;
     CLI::App* render = app.add_subcommand(
         "render", "Render a still (--camera) or an animation (--sequence); with no arguments, the demo");
-    add_render_options(render, &job, &sequence, &crf, &quiet);
+    add_render_options(render, &job, &so, &quiet);
 
     FormFactorsJob ffjob;
     ffjob.warn = warn;
@@ -173,7 +190,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             sj.visibility = job.visibility;
             sj.solver = job.solver;
             sj.exposure = job.exposure;
-            sj.crf = crf;
+            sj.crf = so.crf;
+            sj.palette = so.palette;
+            sj.quantiser = so.quantiser;
             sj.threads = job.threads;
             sj.cache = job.cache;
             sj.warn = warn;
@@ -182,6 +201,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             if (!quiet) out << sequence_summary(sj, report);
             return 0;
         }
+        if (so.palette > 0) throw Error("render: --palette applies to sequences (--sequence)");
         if (job.camera_path.empty())
             throw Error("render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation");
         if (job.scene_path.empty()) throw Error("render: a still needs the scene file (radiosa render SCENE.yaml --camera ...)");

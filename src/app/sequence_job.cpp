@@ -92,6 +92,48 @@ private:
     std::thread m_thread;
 };
 
+bool is_gif(const std::string& path) { return path.ends_with(".gif") || path.ends_with(".GIF"); }
+
+void check_palette_output(const std::string& path) {
+    if (is_gif(path)) {
+        check_output_path(path);
+        return;
+    }
+    if (!path.ends_with(".png") || path.find('%') == std::string::npos)
+        throw Error(path + ": with --palette, write a .gif or numbered indexed PNGs such as out/frames/%04d.png");
+    check_sequence_output(path, 2, 2);
+}
+
+// Builds both palettes from the whole sequence, reports how close each comes to the
+// true-colour frames, and writes the chosen one's frames.
+void write_palette_outputs(const SequenceJob& job, const RenderOptions& ro, double fps,
+                           const std::vector<std::vector<std::uint8_t>>& frames, const ColourHistogram& histogram,
+                           SequenceReport::PaletteResult* result) {
+    for (Quantiser q : {Quantiser::MedianCut, Quantiser::Popularity}) {
+        PaletteMapper mapper(histogram.palette(job.palette, q));
+        PsnrAccumulator psnr;
+        std::vector<std::vector<std::uint8_t>> indexed;
+        for (const auto& f : frames) {
+            indexed.push_back(mapper.map(f));
+            psnr.add(f, indexed.back(), mapper.palette());
+        }
+        (q == Quantiser::MedianCut ? result->psnr_median_cut_db : result->psnr_popularity_db) = psnr.psnr_db();
+        if (q != job.quantiser) continue;
+        result->colours = static_cast<int>(mapper.palette().size());
+        for (const auto& o : job.outputs) {
+            if (is_gif(o)) {
+                GifWriter gif(o, ro.width, ro.height, fps, mapper.palette());
+                for (const auto& ix : indexed) gif.add_frame(ix);
+                gif.finish();
+            } else {
+                for (std::size_t k = 0; k < indexed.size(); ++k)
+                    write_indexed_png(frame_path(o, static_cast<int>(k)), ro.width, ro.height, indexed[k],
+                                      mapper.palette());
+            }
+        }
+    }
+}
+
 void print_progress(std::ostream& out, int done, int total, double elapsed) {
     const double rate = elapsed > 0 ? done / elapsed : 0.0;
     const double eta = rate > 0 ? (total - done) / rate : 0.0;
@@ -123,7 +165,10 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     ro.width = job.width.value_or(seq.width.value_or(ro.width));
     ro.height = job.height.value_or(seq.height.value_or(ro.height));
     ro.samples = job.samples.value_or(seq.samples.value_or(ro.samples));
-    for (const auto& o : job.outputs) check_sequence_output(o, ro.width, ro.height);
+    for (const auto& o : job.outputs) {
+        if (job.palette > 0) check_palette_output(o);
+        else check_sequence_output(o, ro.width, ro.height);
+    }
     const SceneGeometry geometry(scene);
     const Materials base = patch_materials(scene, geometry);
     const Plan plan = plan_sequence(seq, base, geometry);
@@ -154,7 +199,11 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     so.fps = seq.fps;
     so.exposure = job.exposure;
     so.crf = job.crf;
-    for (const auto& o : job.outputs) sinks.push_back(make_frame_sink(o, ro.width, ro.height, so));
+    if (job.palette == 0)
+        for (const auto& o : job.outputs) sinks.push_back(make_frame_sink(o, ro.width, ro.height, so));
+    // With a palette the frames are kept (8-bit) until every frame has added to the histogram.
+    std::vector<std::vector<std::uint8_t>> kept;
+    ColourHistogram histogram;
     EncoderThread encoder(std::move(sinks), &frames);
 
     std::vector<std::unique_ptr<RadiositySolver>> solvers(plan.reflectances.size());
@@ -191,11 +240,21 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
         }
         rec.render_s = clock.seconds();
         if (job.on_frame) job.on_frame(static_cast<int>(f), *image);
-        encoder.push(static_cast<int>(f), image);
+        if (job.palette > 0) {
+            kept.push_back(to_srgb8(*image, job.exposure));
+            histogram.add(kept.back());
+        } else {
+            encoder.push(static_cast<int>(f), image);
+        }
         if (job.progress) print_progress(*job.progress, static_cast<int>(f + 1), seq.frames, loop_clock.seconds());
     }
     encoder.finish();
     if (job.progress) *job.progress << "\n";
+    if (job.palette > 0) {
+        clock = Stopwatch();
+        write_palette_outputs(job, ro, seq.fps, kept, histogram, &r.palette);
+        r.palette.seconds = clock.seconds();
+    }
 
     r.substitutions = plan.substitutions();
     r.reflectance_sets = plan.factorisations();
@@ -257,6 +316,12 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                           {"render_s", f.render_s},
                           {"encode_s", f.encode_s}});
     j["frames"] = frames;
+    j["palette"] = job.palette > 0 ? json{{"colours", r.palette.colours},
+                                          {"quantiser", quantiser_name(job.quantiser)},
+                                          {"psnr_db", {{"median-cut", r.palette.psnr_median_cut_db},
+                                                       {"popularity", r.palette.psnr_popularity_db}}},
+                                          {"seconds", r.palette.seconds}}
+                                    : json(nullptr);
     return j.dump(2);
 }
 
@@ -286,6 +351,14 @@ std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
     std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  (%.1f frames/s)\n", "total", r.total_s,
                   r.frames.size() / std::max(r.total_s, 1e-9));
     s += buf;
+    if (job.palette > 0) {
+        std::snprintf(buf, sizeof buf,
+                      "  %-13s %8.3f s  %d colours (%s) for all frames; PSNR vs true colour: median cut %.2f dB, "
+                      "popularity %.2f dB\n",
+                      "palette", r.palette.seconds, r.palette.colours, quantiser_name(job.quantiser),
+                      r.palette.psnr_median_cut_db, r.palette.psnr_popularity_db);
+        s += buf;
+    }
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

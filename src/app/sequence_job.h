@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "cache/cache_file.h"
+#include "encode/palette.h"
 #include "render/raycast.h"
 #include "schedule/scheduler.h"
 #include "solve/solver.h"
@@ -26,6 +27,8 @@ struct SequenceJob {
     SolverMethod solver = SolverMethod::LU;
     double exposure = 0.0;
     int crf = 18;
+    int palette = 0;  // > 0: one palette of this many colours for all frames (.gif / indexed .png)
+    Quantiser quantiser = Quantiser::MedianCut;
     int threads = 0;
     CacheSettings cache;
     WarningSink warn = [](const std::string&) {};
@@ -50,6 +53,10 @@ struct SequenceReport {
     FormFactorStats form_factor_stats;
     int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0, copies = 0;
     std::vector<FrameRecord> frames;
+    struct PaletteResult {
+        int colours = 0;
+        double psnr_median_cut_db = 0, psnr_popularity_db = 0, seconds = 0;
+    } palette;
     double load_s = 0, form_factors_s = 0, solve_s = 0, render_s = 0, encode_s = 0, total_s = 0;
 };
 
