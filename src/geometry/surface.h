@@ -48,6 +48,8 @@ public:
     virtual BoundingSphere bound(double s0, double s1, double t0, double t1) const = 0;
     // The supporting plane of a planar surface.
     virtual std::optional<Plane> plane() const { return std::nullopt; }
+    // Centre and radius of a spherical surface.
+    virtual std::optional<BoundingSphere> sphere() const { return std::nullopt; }
 
     // True when a chord between two of its points never crosses the surface elsewhere
     // (planes, spheres): then it can be left out of the occlusion test for its own pairs.
@@ -101,6 +103,7 @@ public:
                                         HitSide side) const override;
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
+    std::optional<BoundingSphere> sphere() const override { return BoundingSphere{m_center, m_radius}; }
     bool chords_never_cross() const override { return true; }
     bool front_segments_escape() const override { return m_orientation > 0.0; }
     bool sees_itself() const override { return m_orientation < 0.0; }

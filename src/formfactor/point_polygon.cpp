@@ -1,0 +1,121 @@
+#include "formfactor/point_polygon.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace radiosa {
+
+namespace {
+
+constexpr int kMaxVerts = 8;
+
+Vec3 unit_or_zero(const Vec3& v) {
+    const double l = glm::length(v);
+    return l > 0.0 ? v / l : Vec3(0.0);
+}
+
+// Angle between unit vectors, accurate for small and large angles.
+double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
+
+// Length of the part of the great-circle arc a -> b (unit vectors, angle gamma) inside the
+// cap {w : w . d >= cos_a}.
+double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d, double cos_a) {
+    if (gamma <= 0.0) return 0.0;
+    const Vec3 w = unit_or_zero(b - glm::dot(b, a) * a);
+    const double p = glm::dot(a, d), q = glm::dot(w, d);
+    const double amp = std::hypot(p, q);
+    if (amp <= cos_a) return 0.0;
+    const double phi0 = std::atan2(q, p), delta = std::acos(std::min(1.0, cos_a / amp));
+    double len = 0.0;
+    for (double shift : {-2 * kPi, 0.0, 2 * kPi}) {
+        const double lo = std::max(0.0, phi0 - delta + shift), hi = std::min(gamma, phi0 + delta + shift);
+        if (hi > lo) len += hi - lo;
+    }
+    return len;
+}
+
+}  // namespace
+
+double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, const BoundingSphere* blocker) {
+    // Front side of the polygon (Newell normal, robust for any planar polygon).
+    Vec3 m(0.0);
+    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
+    if (glm::dot(m, x - v[0]) <= 0.0) return 0.0;
+
+    // Cut to x's front half-space n . (y - x) >= 0 (Sutherland-Hodgman), reversing the order
+    // so that, seen from outside the sphere of directions, the boundary runs counter-clockwise.
+    std::array<Vec3, kMaxVerts> clipped;
+    int nc = 0;
+    for (int k = count - 1; k >= 0; --k) {
+        const Vec3& a = v[k];
+        const Vec3& b = v[(k + count - 1) % count];
+        const double da = glm::dot(n, a - x), db = glm::dot(n, b - x);
+        if (da >= 0.0) clipped[nc++] = a;
+        if ((da >= 0.0) != (db >= 0.0) && nc < kMaxVerts) clipped[nc++] = a + (b - a) * (da / (da - db));
+    }
+    if (nc < 3) return 0.0;
+
+    std::array<Vec3, kMaxVerts> w;
+    for (int k = 0; k < nc; ++k) w[k] = unit_or_zero(clipped[k] - x);
+
+    // Lambert: sum over edges of (arc angle) * n . (unit normal of the arc's great circle).
+    std::array<double, kMaxVerts> gamma{};
+    std::array<Vec3, kMaxVerts> u;
+    double whole = 0.0;
+    for (int k = 0; k < nc; ++k) {
+        const Vec3& a = w[k];
+        const Vec3& b = w[(k + 1) % nc];
+        u[k] = unit_or_zero(glm::cross(a, b));
+        gamma[k] = angle_between(a, b);
+        whole += gamma[k] * glm::dot(n, u[k]);
+    }
+    if (!blocker) return std::max(0.0, whole / (2.0 * kPi));
+
+    // Minus the directions inside the blocker's cone: cap around d with half-angle alpha.
+    const Vec3 to_c = blocker->center - x;
+    const double dist = glm::length(to_c);
+    if (!(dist > blocker->radius)) return std::max(0.0, whole / (2.0 * kPi));
+    const Vec3 d = to_c / dist;
+    const double sin_a = blocker->radius / dist, cos_a = std::sqrt(std::max(0.0, 1.0 - sin_a * sin_a));
+    double blocked = 0.0;
+    // (1) polygon edges inside the cap.
+    for (int k = 0; k < nc; ++k)
+        blocked += arc_inside_cap(w[k], w[(k + 1) % nc], gamma[k], d, cos_a) * glm::dot(n, u[k]);
+    // (2) arcs of the cap's circle inside the polygon: w(t) = cos_a d + sin_a (cos t e1 + sin t e2).
+    const Vec3 e1 = unit_or_zero(std::abs(d.x) < 0.9 ? glm::cross(d, Vec3(1, 0, 0)) : glm::cross(d, Vec3(0, 1, 0)));
+    const Vec3 e2 = glm::cross(d, e1);
+    std::array<double, 2 * kMaxVerts + 2> cuts{};
+    int ncuts = 0;
+    std::array<Vec3, kMaxVerts> mk;
+    for (int k = 0; k < nc; ++k) {
+        mk[k] = glm::cross(w[k], w[(k + 1) % nc]);
+        const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
+        const double amp = std::hypot(b1, b2);
+        if (amp * sin_a <= std::abs(a0) * cos_a) continue;  // the circle does not cross this edge's great circle
+        const double tk = std::atan2(b2, b1), beta = std::acos(std::clamp(-cos_a * a0 / (sin_a * amp), -1.0, 1.0));
+        for (double t : {tk - beta, tk + beta}) {
+            t = std::fmod(t, 2 * kPi);
+            if (t < 0) t += 2 * kPi;
+            cuts[ncuts++] = t;
+        }
+    }
+    cuts[ncuts++] = 0.0;
+    cuts[ncuts++] = 2 * kPi;
+    std::sort(cuts.begin(), cuts.begin() + ncuts);
+    for (int c = 0; c + 1 < ncuts; ++c) {
+        const double t1 = cuts[c], t2 = cuts[c + 1];
+        if (t2 - t1 <= 0.0) continue;
+        const double tm = 0.5 * (t1 + t2);
+        const Vec3 wm = cos_a * d + sin_a * (std::cos(tm) * e1 + std::sin(tm) * e2);
+        bool inside = true;
+        for (int k = 0; k < nc && inside; ++k) inside = glm::dot(wm, mk[k]) >= 0.0;
+        if (!inside) continue;
+        const Vec3 integral = cos_a * sin_a * ((std::cos(t2) - std::cos(t1)) * e2 - (std::sin(t2) - std::sin(t1)) * e1) +
+                              sin_a * sin_a * (t2 - t1) * d;
+        blocked += glm::dot(n, integral);
+    }
+    return std::max(0.0, (whole - blocked) / (2.0 * kPi));
+}
+
+}  // namespace radiosa

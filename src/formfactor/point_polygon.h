@@ -1,0 +1,19 @@
+#pragma once
+// Closed forms for the form factor from a point to a planar polygon, the inner integral of
+// the semi-analytic method. With unit directions w on the sphere around the point x,
+//   F(dx -> region) = 1/pi  * integral over the region of (n . w) dw
+//                   = 1/(2 pi) * contour integral over its boundary of n . (w x dw)
+// (Stokes; Lambert's formula when the boundary is made of great-circle arcs). The region is
+// the polygon's projection, cut to x's front hemisphere; optionally minus the cone of
+// directions blocked by one sphere (its boundary is a small circle, integrated in closed form).
+#include "util/math.h"
+
+namespace radiosa {
+
+// Form factor from the point x with unit normal n to the polygon v[0..count-1] (planar,
+// convex, counter-clockwise about its front normal). Zero when x is not on the polygon's
+// front side. `blocker`, if given, is a sphere that x is outside of, lying wholly between x
+// and the polygon's plane; the directions it covers are taken out.
+double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, const BoundingSphere* blocker);
+
+}  // namespace radiosa

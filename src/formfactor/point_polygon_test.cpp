@@ -1,0 +1,62 @@
+// The closed-form point-to-polygon factor against textbook values and limits.
+#include "formfactor/point_polygon.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace radiosa {
+
+namespace {
+// Point on the axis of a 2a x 2b rectangle at height h, facing it (Howell's catalogue B-3).
+double on_axis(double a, double b, double h) {
+    const double A = a / h, B = b / h;
+    return 2.0 / kPi *
+           (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B)));
+}
+}  // namespace
+
+TEST(PointPolygon, OnAxisRectangleMatchesClosedForm) {
+    // Rectangle in z = 1 facing down (counter-clockwise about -z).
+    const Vec3 v[4] = {{-1, -0.5, 1}, {-1, 0.5, 1}, {1, 0.5, 1}, {1, -0.5, 1}};
+    const Vec3 x(0, 0, 0), n(0, 0, 1);
+    EXPECT_NEAR(point_to_polygon(x, n, v, 4, nullptr), on_axis(1.0, 0.5, 1.0), 1e-14);
+    // Facing away from x: nothing.
+    const Vec3 r[4] = {v[3], v[2], v[1], v[0]};
+    EXPECT_EQ(point_to_polygon(x, n, r, 4, nullptr), 0.0);
+    // A point whose tangent plane cuts the polygon in half sees half of it.
+    const Vec3 side(1, 0, 0);
+    const double half = point_to_polygon(Vec3(0, 0, 0.999999999), side, v, 4, nullptr);
+    EXPECT_GT(half, 0.0);
+    EXPECT_LT(half, 0.5);
+}
+
+TEST(PointPolygon, HugePolygonTendsToOne) {
+    const double L = 1e6;
+    const Vec3 v[4] = {{-L, -L, 1}, {-L, L, 1}, {L, L, 1}, {L, -L, 1}};
+    EXPECT_NEAR(point_to_polygon(Vec3(0.0), Vec3(0, 0, 1), v, 4, nullptr), 1.0, 1e-5);
+}
+
+TEST(PointPolygon, SphereBlockerTakesOutItsProjectedCap) {
+    const double L = 100.0;
+    const Vec3 v[4] = {{-L, -L, 10}, {-L, L, 10}, {L, L, 10}, {L, -L, 10}};
+    const Vec3 x(0.0), n(0, 0, 1);
+    const double open = point_to_polygon(x, n, v, 4, nullptr);
+    // On the axis: the cap (sin^2 alpha = (R/D)^2) lies wholly inside the polygon.
+    const BoundingSphere s{Vec3(0, 0, 4), 1.0};
+    EXPECT_NEAR(point_to_polygon(x, n, v, 4, &s), open - 1.0 / 16.0, 1e-13);
+    // Off axis at 45 degrees: sin^2(alpha) cos(45 deg).
+    const BoundingSphere t{Vec3(3, 0, 3), 1.0};
+    EXPECT_NEAR(point_to_polygon(x, n, v, 4, &t), open - (1.0 / 18.0) * std::sqrt(0.5), 1e-13);
+    // A sphere covering the whole polygon's cone blocks everything.
+    const Vec3 small[4] = {{-0.1, -0.1, 10}, {-0.1, 0.1, 10}, {0.1, 0.1, 10}, {0.1, -0.1, 10}};
+    EXPECT_EQ(point_to_polygon(x, n, small, 4, &s), 0.0);
+    // Half covered: a sphere whose cone is cut by a polygon edge through its axis. By symmetry
+    // the rectangle [0, 50] x [-50, 50] (its cone contains half the cap) loses exactly half of it.
+    const Vec3 q[4] = {{0, -50, 5}, {0, 50, 5}, {50, 50, 5}, {50, -50, 5}};
+    const double q_open = point_to_polygon(x, n, q, 4, nullptr);
+    EXPECT_NEAR(point_to_polygon(x, n, q, 4, &s), q_open - 0.5 / 16.0, 1e-13);
+}
+
+}  // namespace radiosa
