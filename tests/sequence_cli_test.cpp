@@ -150,7 +150,8 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
     const Scene scene = load_scene(kScene);
     const Sequence seq = load_sequence(seq_path.string(), &scene);
     const SceneGeometry g(scene);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions{});
+    const FormFactors ff = compute_form_factors(
+        g, resolve_form_factor_options(scene.form_factors, std::nullopt, std::nullopt, std::nullopt));
     const Materials m = seq.materials_at(patch_materials(scene, g), g, seq.frame_time(k));
     const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
     const NodeRadiosity nodes(g, solver.solve(m.E), m.E);

@@ -27,9 +27,8 @@ std::string run_formfactors(const FormFactorsJob& job) {
     const SceneGeometry geometry(scene);
     const double load_s = clock.seconds();
 
-    FormFactorOptions ffo;
-    ffo.gauss_points = job.gauss_points.value_or(scene.form_factors.gauss_points);
-    ffo.visibility = job.visibility.value_or(scene.form_factors.visibility);
+    const FormFactorOptions ffo =
+        resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
     clock = Stopwatch();
     CacheOutcome cache;
     const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.cache, job.warn, &cache);
@@ -49,18 +48,17 @@ std::string run_formfactors(const FormFactorsJob& job) {
         j["surfaces"] = geometry.surface_count();
         j["patches"] = geometry.patch_count();
         j["closed"] = scene.closed;
-        j["gauss_points"] = ffo.gauss_points;
+        j["form_factor_method"] = ffo.tolerance > 0 ? "adaptive" : "gauss";
+        j["form_factor_tolerance"] = ffo.tolerance > 0 ? json(ffo.tolerance) : json(nullptr);
+        j["gauss_points"] = ffo.tolerance > 0 ? json(nullptr) : json(ffo.gauss_points);
         j["visibility"] = ffo.visibility;
         j["matrix"] = job.matrix_path ? json(*job.matrix_path) : json(nullptr);
         j["closure_max_error"] = scene.closed ? json(checks.closure_max_error) : json(nullptr);
         j["closure_worst_patch"] = scene.closed ? json(worst) : json(nullptr);
         j["reciprocity_max_error"] = checks.reciprocity_max_error;
         j["min_entry"] = checks.min_entry;
-        j["form_factor_stats"] = {{"pairs", ff.stats.pairs},
-                                  {"pairs_culled", ff.stats.pairs_culled},
-                                  {"occluder_checks", ff.stats.occluder_checks},
-                                  {"occluders_culled", ff.stats.occluders_culled},
-                                  {"segment_tests", ff.stats.segment_tests}};
+        add_form_factor_checks(j, checks, scene.closed);
+        j["form_factor_stats"] = form_factor_stats_json(ff.stats);
         j["form_factor_cache"] = cache_outcome_json(cache);
         j["timings"] = {{"load_s", load_s}, {"form_factors_s", ff_s}, {"export_s", export_s},
                         {"total_s", total.seconds()}};
@@ -70,7 +68,7 @@ std::string run_formfactors(const FormFactorsJob& job) {
     char buf[256];
     std::string s = "radiosa formfactors " + job.scene_path + " (" + std::to_string(geometry.patch_count()) +
                     " patches on " + std::to_string(geometry.surface_count()) + " surfaces)\n";
-    std::snprintf(buf, sizeof buf, "  form factors %8.3f s  p = %d, visibility %s\n", ff_s, ffo.gauss_points,
+    std::snprintf(buf, sizeof buf, "  form factors %8.3f s  %s, visibility %s\n", ff_s, describe(ffo).c_str(),
                   ffo.visibility ? "on" : "off");
     s += buf;
     s += "               cache " + cache_outcome_summary(cache) + "\n";
@@ -79,9 +77,14 @@ std::string run_formfactors(const FormFactorsJob& job) {
                       worst.c_str());
         s += buf;
     }
-    std::snprintf(buf, sizeof buf, "  reciprocity max |A_i F_ij - A_j F_ji| / max = %.2e\n",
-                  checks.reciprocity_max_error);
+    std::snprintf(buf, sizeof buf, "  reciprocity max |A_i F_ij - A_j F_ji| / max = %.2e, max |F_ij - A_j F_ji / A_i| = %.2e\n",
+                  checks.reciprocity_max_error, checks.reciprocity_abs_error);
     s += buf;
+    if (!ff.error.empty()) {
+        std::snprintf(buf, sizeof buf, "  error estimates: max per entry %.2e, max per row %.2e\n",
+                      checks.max_error_estimate, checks.max_row_error_estimate);
+        s += buf;
+    }
     if (job.matrix_path) {
         s += "  wrote " + *job.matrix_path;
         if (npy_patch_table_path(*job.matrix_path) != *job.matrix_path && job.matrix_path->ends_with(".npy"))

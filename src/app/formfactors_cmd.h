@@ -12,6 +12,7 @@ struct FormFactorsJob {
     std::string scene_path;
     std::optional<std::string> matrix_path;  // .csv or .npy
     std::optional<std::string> report_path;
+    std::optional<double> ff_tolerance;  // --ff-tolerance
     std::optional<int> gauss_points;
     std::optional<bool> visibility;
     int threads = 0;

@@ -18,6 +18,26 @@ nlohmann::json cache_outcome_json(const CacheOutcome& c) {
             {"wait_s", c.wait_s}};
 }
 
+nlohmann::json form_factor_stats_json(const FormFactorStats& s) {
+    return {{"pairs", s.pairs},
+            {"pairs_culled", s.pairs_culled},
+            {"occluder_checks", s.occluder_checks},
+            {"occluders_culled", s.occluders_culled},
+            {"segment_tests", s.segment_tests},
+            {"semi_analytic", s.semi_analytic},
+            {"numeric", s.numeric},
+            {"by_reciprocity", s.by_reciprocity},
+            {"regions", s.regions},
+            {"capped", s.capped}};
+}
+
+void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c, bool closed) {
+    j["reciprocity_abs_error"] = c.reciprocity_abs_error;
+    j["reciprocity_vs_estimate"] = c.reciprocity_vs_estimate;
+    j["max_error_estimate"] = c.max_error_estimate;
+    j["max_row_error_estimate"] = closed ? nlohmann::json(c.max_row_error_estimate) : nlohmann::json(c.max_row_error_estimate);
+}
+
 std::string cache_outcome_summary(const CacheOutcome& c) {
     char buf[160];
     std::string s = cache_status_name(c.status);

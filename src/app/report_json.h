@@ -11,5 +11,9 @@ namespace radiosa {
 nlohmann::json cache_outcome_json(const CacheOutcome& c);
 // One line for stdout, e.g. "hit out/cache/3f...rff (loaded in 0.001 s)".
 std::string cache_outcome_summary(const CacheOutcome& c);
+// "form_factor_stats": culling counts and, for error-controlled matrices, how entries were integrated.
+nlohmann::json form_factor_stats_json(const FormFactorStats& s);
+// Adds max_error_estimate, max_row_error_estimate, reciprocity_abs_error, reciprocity_vs_estimate.
+void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c, bool closed);
 
 }  // namespace radiosa

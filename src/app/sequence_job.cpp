@@ -183,9 +183,9 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     for (std::size_t f = 0; f < frames.size(); ++f) frames[f].plan = plan.frames[f];
 
     // Form factors: once for the whole sequence.
-    FormFactorOptions ffo;
-    ffo.gauss_points = job.gauss_points.value_or(scene.form_factors.gauss_points);
-    ffo.visibility = job.visibility.value_or(scene.form_factors.visibility);
+    const FormFactorOptions ffo =
+        resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
+    r.ff_tolerance = ffo.tolerance;
     r.gauss_points = ffo.gauss_points;
     r.visibility = ffo.visibility;
     clock = Stopwatch();
@@ -278,7 +278,9 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
     j["outputs"] = job.outputs;
     j["surfaces"] = r.surfaces;
     j["patches"] = r.patches;
-    j["gauss_points"] = r.gauss_points;
+    j["form_factor_method"] = r.ff_tolerance > 0 ? "adaptive" : "gauss";
+    j["form_factor_tolerance"] = r.ff_tolerance > 0 ? json(r.ff_tolerance) : json(nullptr);
+    j["gauss_points"] = r.ff_tolerance > 0 ? json(nullptr) : json(r.gauss_points);
     j["visibility"] = r.visibility;
     j["threads"] = r.threads;
     j["fps"] = r.fps;
@@ -287,11 +289,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
     j["image"] = {{"width", r.render.width}, {"height", r.render.height},
                   {"samples_per_axis", r.render.samples}, {"exposure_stops", job.exposure}, {"crf", job.crf}};
     j["form_factor_cache"] = cache_outcome_json(r.cache);
-    j["form_factor_stats"] = {{"pairs", r.form_factor_stats.pairs},
-                              {"pairs_culled", r.form_factor_stats.pairs_culled},
-                              {"occluder_checks", r.form_factor_stats.occluder_checks},
-                              {"occluders_culled", r.form_factor_stats.occluders_culled},
-                              {"segment_tests", r.form_factor_stats.segment_tests}};
+    j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
     j["totals"] = {{"load_s", r.load_s},
                    {"form_factors_s", r.form_factors_s},
                    {"solve_s", r.solve_s},

@@ -22,6 +22,7 @@ struct SequenceJob {
     std::optional<std::string> report_path;
     // Unset: the sequence's `image:` block, else the RenderOptions defaults.
     std::optional<int> width, height, samples;
+    std::optional<double> ff_tolerance;  // --ff-tolerance
     std::optional<int> gauss_points;
     std::optional<bool> visibility;
     SolverMethod solver = SolverMethod::LU;
@@ -48,6 +49,7 @@ struct SequenceReport {
     int patches = 0, surfaces = 0, threads = 0;
     double fps = 0;
     int gauss_points = 0;
+    double ff_tolerance = 0.0;
     bool visibility = true;
     CacheOutcome cache;
     FormFactorStats form_factor_stats;

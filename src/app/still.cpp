@@ -41,9 +41,9 @@ StillReport run_still(const StillJob& job) {
     r.patches = geometry.patch_count();
     r.closed = scene.closed;
 
-    FormFactorOptions ffo;
-    ffo.gauss_points = job.gauss_points.value_or(scene.form_factors.gauss_points);
-    ffo.visibility = job.visibility.value_or(scene.form_factors.visibility);
+    const FormFactorOptions ffo =
+        resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
+    r.ff_options = ffo;
     r.gauss_points = ffo.gauss_points;
     r.visibility = ffo.visibility;
     clock = Stopwatch();
@@ -89,7 +89,9 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["surfaces"] = r.surfaces;
     j["patches"] = r.patches;
     j["closed"] = r.closed;
-    j["gauss_points"] = r.gauss_points;
+    j["form_factor_method"] = r.ff_options.tolerance > 0 ? "adaptive" : "gauss";
+    j["form_factor_tolerance"] = r.ff_options.tolerance > 0 ? json(r.ff_options.tolerance) : json(nullptr);
+    j["gauss_points"] = r.ff_options.tolerance > 0 ? json(nullptr) : json(r.gauss_points);
     j["visibility"] = r.visibility;
     j["threads"] = r.threads;
     j["image"] = {{"width", job.render.width}, {"height", job.render.height},
@@ -102,11 +104,8 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["closure_worst_patch"] = r.closed ? json(r.closure_worst_patch) : json(nullptr);
     j["reciprocity_max_error"] = r.checks.reciprocity_max_error;
     j["energy_balance_error"] = r.closed ? json(r.solve.energy_balance_error) : json(nullptr);
-    j["form_factor_stats"] = {{"pairs", r.form_factor_stats.pairs},
-                              {"pairs_culled", r.form_factor_stats.pairs_culled},
-                              {"occluder_checks", r.form_factor_stats.occluder_checks},
-                              {"occluders_culled", r.form_factor_stats.occluders_culled},
-                              {"segment_tests", r.form_factor_stats.segment_tests}};
+    add_form_factor_checks(j, r.checks, r.closed);
+    j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
     j["form_factor_cache"] = cache_outcome_json(r.cache);
     j["solve"] = {{"method", solver_method_name(job.solver)},
                   {"factorisations", r.factorisations},
@@ -124,9 +123,8 @@ std::string still_summary(const StillJob& job, const StillReport& r) {
       << " surfaces), camera " << job.camera_path << "\n";
     std::snprintf(buf, sizeof buf, "  %-13s %8.3f s\n", "load", r.times.load_s);
     s << buf;
-    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  p = %d (%d terms/pair), %lld pairs, %lld culled, %lld segment tests\n",
-                  "form factors", r.times.form_factors_s, r.gauss_points,
-                  r.gauss_points * r.gauss_points * r.gauss_points * r.gauss_points, st.pairs, st.pairs_culled,
+    std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  %s, %lld pairs, %lld culled, %lld segment tests\n",
+                  "form factors", r.times.form_factors_s, describe(r.ff_options).c_str(), st.pairs, st.pairs_culled,
                   st.segment_tests);
     s << buf << "  " << std::string(13, ' ') << "   cache " << cache_outcome_summary(r.cache) << "\n";
     std::snprintf(buf, sizeof buf, "  %-13s %8.3f s  %s, %d factorisation(s) for 3 channels, residual %.1e\n", "solve",
@@ -143,7 +141,8 @@ std::string still_summary(const StillJob& job, const StillReport& r) {
                       r.checks.closure_max_error, r.closure_worst_patch.c_str());
         s << buf;
     }
-    std::snprintf(buf, sizeof buf, "  reciprocity max |A_i F_ij - A_j F_ji| / max = %.2e\n", r.checks.reciprocity_max_error);
+    std::snprintf(buf, sizeof buf, "  reciprocity max |F_ij - A_j F_ji / A_i| = %.2e (relative %.2e, %.2f of the estimates)\n",
+                  r.checks.reciprocity_abs_error, r.checks.reciprocity_max_error, r.checks.reciprocity_vs_estimate);
     s << buf;
     if (r.closed) {
         std::snprintf(buf, sizeof buf, "  energy balance |emitted - absorbed| / emitted = %.2e\n", r.solve.energy_balance_error);

@@ -17,6 +17,7 @@ struct StillJob {
     std::vector<std::string> outputs;  // image files; format from each extension
     std::optional<std::string> report_path;
     RenderOptions render;
+    std::optional<double> ff_tolerance;  // --ff-tolerance
     std::optional<int> gauss_points;   // overrides the scene's form_factors.gauss_points
     std::optional<bool> visibility;    // overrides the scene's form_factors.visibility
     SolverMethod solver = SolverMethod::LU;
@@ -35,6 +36,7 @@ struct StillReport {
     int surfaces = 0;
     int patches = 0;
     bool closed = true;
+    FormFactorOptions ff_options;
     int gauss_points = 0;
     bool visibility = true;
     int threads = 0;

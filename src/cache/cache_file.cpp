@@ -118,7 +118,9 @@ CacheKey form_factor_key(const Scene& scene, const FormFactorOptions& options) {
     w.str("radiosa form factors");
     w.u32(kFormFactorAlgorithmVersion);
     w.u32(kElementFloat64);
-    w.u32(static_cast<std::uint32_t>(options.gauss_points));
+    // The method: error-controlled with its tolerance, or the fixed rule with its order.
+    w.f64(options.tolerance);
+    w.u32(static_cast<std::uint32_t>(options.tolerance > 0.0 ? 0 : options.gauss_points));
     w.u32(options.visibility ? 1 : 0);
     w.u64(scene.surfaces.size());
     for (const SurfaceDesc& s : scene.surfaces) {
@@ -201,9 +203,10 @@ void write_cache_file(const fs::path& path, const CacheKey& key, const std::stri
         w.f64(p.area);
     }
     w.u32(static_cast<std::uint32_t>(ff.gauss_points));
-    w.u32(0);  // reserved
+    w.f64(ff.tolerance);
     const FormFactorStats& st = ff.stats;
-    for (long long v : {st.pairs, st.pairs_culled, st.occluder_checks, st.occluders_culled, st.segment_tests})
+    for (long long v : {st.pairs, st.pairs_culled, st.occluder_checks, st.occluders_culled, st.segment_tests,
+                        st.semi_analytic, st.numeric, st.by_reciprocity, st.regions, st.capped})
         w.i64(v);
     w.raw(section.data(), section.size());
     w.u64(checksum(w.bytes().data(), w.bytes().size()));
@@ -277,9 +280,10 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
             }
         }
         ff.gauss_points = static_cast<int>(in.u32());
-        in.u32();
+        ff.tolerance = in.f64();
         FormFactorStats& st = ff.stats;
-        for (long long* v : {&st.pairs, &st.pairs_culled, &st.occluder_checks, &st.occluders_culled, &st.segment_tests})
+        for (long long* v : {&st.pairs, &st.pairs_culled, &st.occluder_checks, &st.occluders_culled, &st.segment_tests,
+                             &st.semi_analytic, &st.numeric, &st.by_reciprocity, &st.regions, &st.capped})
             *v = in.i64();
         if (h.stored != in.remaining() - 8)
             throw CacheFileError("matrix section is " + std::to_string(in.remaining() - 8) + " bytes, header says " +

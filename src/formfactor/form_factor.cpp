@@ -4,9 +4,15 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
+#include <array>
+#include <cstdio>
 #include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
 
+#include "formfactor/point_polygon.h"
+#include "scene/scene.h"
 #include "geometry/scene_geometry.h"
 #include "util/gauss_legendre.h"
 #include "util/stopwatch.h"
@@ -180,6 +186,239 @@ private:
     double m_eps = 0.0;
 };
 
+
+// ---- error-controlled form factors ----
+
+struct Rect {
+    double s0, s1, t0, t1;
+    std::array<Rect, 4> split() const {
+        const double sm = 0.5 * (s0 + s1), tm = 0.5 * (t0 + t1);
+        return {Rect{s0, sm, t0, tm}, Rect{sm, s1, t0, tm}, Rect{s0, sm, tm, t1}, Rect{sm, s1, tm, t1}};
+    }
+};
+
+struct Estimate {
+    double value = 0.0;
+    double error = 0.0;
+    int regions = 0;
+    bool capped = false;
+};
+
+// Globally adaptive cubature of g(s, t) over a parameter rectangle: each region carries the
+// p x p Gauss value on itself (coarse) and the sum over its four quarters (fine); |fine -
+// coarse| estimates the coarse value's error, which bounds the fine one's. The region with
+// the largest estimate is split until the estimates sum to at most `tol` or `max_regions`
+// is reached. Returns the sum of fine values and of estimates.
+template <class G>
+Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions, const GaussRule& rule) {
+    auto gauss = [&](const Rect& r) {
+        const double hs = 0.5 * (r.s1 - r.s0), ht = 0.5 * (r.t1 - r.t0);
+        double sum = 0.0;
+        for (std::size_t b = 0; b < rule.x.size(); ++b)
+            for (std::size_t a = 0; a < rule.x.size(); ++a)
+                sum += rule.w[a] * rule.w[b] * g(r.s0 + hs * (rule.x[a] + 1.0), r.t0 + ht * (rule.x[b] + 1.0));
+        return sum * hs * ht;
+    };
+    struct Region {
+        Rect r;
+        std::array<double, 4> quarter;
+        double fine, err;
+    };
+    auto make = [&](const Rect& r, double coarse) {
+        Region reg{r, {}, 0.0, 0.0};
+        const auto q = r.split();
+        for (int k = 0; k < 4; ++k) reg.quarter[k] = gauss(q[k]);
+        reg.fine = reg.quarter[0] + reg.quarter[1] + reg.quarter[2] + reg.quarter[3];
+        // Never claim more than round-off allows: rules that happen to agree exactly still
+        // carry the rounding of their sums.
+        reg.err = std::abs(reg.fine - coarse) + 64 * std::numeric_limits<double>::epsilon() * std::abs(reg.fine);
+        return reg;
+    };
+    auto worse = [](const Region& a, const Region& b) { return a.err < b.err; };
+    std::vector<Region> heap{make(root, gauss(root))};
+    double err = heap[0].err;
+    Estimate e;
+    while (err > tol && static_cast<int>(heap.size()) + 3 <= max_regions) {
+        std::pop_heap(heap.begin(), heap.end(), worse);
+        const Region top = heap.back();
+        heap.pop_back();
+        const auto q = top.r.split();
+        err -= top.err;
+        for (int k = 0; k < 4; ++k) {
+            heap.push_back(make(q[k], top.quarter[k]));
+            err += heap.back().err;
+            std::push_heap(heap.begin(), heap.end(), worse);
+        }
+    }
+    for (const Region& r : heap) {
+        e.value += r.fine;
+        e.error += r.err;
+    }
+    e.regions = static_cast<int>(heap.size());
+    e.capped = e.error > tol;
+    return e;
+}
+
+class AdaptiveIntegrator {
+public:
+    AdaptiveIntegrator(const SceneGeometry& g, const FormFactorOptions& o, const Integrator& base)
+        : m_geo(g), m_opt(o), m_base(base), m_outer(gauss_legendre(6)), m_inner(gauss_legendre(5)) {}
+
+    // The planar polygon of patch j, counter-clockwise about its front normal.
+    std::array<Vec3, 4> polygon(int j) const {
+        const Patch& p = m_geo.patch(j);
+        std::array<Vec3, 4> v = p.corners;
+        const Vec3 front = m_geo.surface(p.surface).normal(0.5 * (p.s0 + p.s1), 0.5 * (p.t0 + p.t1));
+        const Vec3 newell = glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2]);
+        if (glm::dot(front, newell) < 0.0) std::swap(v[1], v[3]);
+        return v;
+    }
+
+    // Can F_ij use the closed-form inner integral? j must be planar and nothing may block the
+    // pair, except one sphere that lies wholly between patch i and j's plane.
+    bool semi_analytic(int i, int j, const std::vector<int>& blockers, std::optional<BoundingSphere>* blocker) const {
+        const Patch& pj = m_geo.patch(j);
+        if (!pj.planar) return false;
+        blocker->reset();
+        if (!m_opt.visibility || blockers.empty()) return true;
+        if (blockers.size() != 1) return false;
+        const Surface& s = m_geo.surface(blockers[0]);
+        const auto sph = s.sphere();
+        if (!sph || blockers[0] == m_geo.patch(i).surface) return false;
+        const auto plane = m_geo.surface(pj.surface).plane();
+        const Patch& pi = m_geo.patch(i);
+        if (!plane || plane->signed_distance(sph->center) < sph->radius ||
+            glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
+            return false;
+        *blocker = *sph;
+        return true;
+    }
+
+    // A_i F_ij with the inner integral in closed form; error estimate on the same scale.
+    Estimate area_times_f_semi(int i, int j, const std::optional<BoundingSphere>& blocker, double tol) const {
+        const Patch& pi = m_geo.patch(i);
+        const Surface& si = m_geo.surface(pi.surface);
+        const std::array<Vec3, 4> v = polygon(j);
+        const BoundingSphere* b = blocker ? &*blocker : nullptr;
+        auto g = [&](double s, double t) {
+            const Vec3 nrm = si.normal(s, t);
+            const double da = glm::length(nrm);
+            if (!(da > 0.0)) return 0.0;
+            return da * point_to_polygon(si.point(s, t), nrm / da, v.data(), 4, b);
+        };
+        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, tol * pi.area, kMaxOuterRegions, m_outer);
+    }
+
+    // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
+    Estimate area_times_f_numeric(int i, int j, const std::vector<int>& blockers, double tol,
+                                  FormFactorStats* st) const {
+        const Patch& pi = m_geo.patch(i);
+        const Patch& pj = m_geo.patch(j);
+        const Surface& si = m_geo.surface(pi.surface);
+        const Surface& sj = m_geo.surface(pj.surface);
+        const bool test = m_opt.visibility && !blockers.empty();
+        double inner_err = 0.0;
+        long long tests = 0;
+        auto g = [&](double s, double t) {
+            const Vec3 ni = si.normal(s, t);
+            const double da = glm::length(ni);
+            if (!(da > 0.0)) return 0.0;
+            const Vec3 x = si.point(s, t);
+            auto h = [&](double u, double w) {
+                const Vec3 y = sj.point(u, w);
+                const Vec3 e = y - x;
+                const double ci = glm::dot(ni, e);
+                if (ci <= 0.0) return 0.0;
+                const Vec3 nj = sj.normal(u, w);
+                const double cj = -glm::dot(nj, e);
+                if (cj <= 0.0) return 0.0;
+                const double l2 = glm::dot(e, e);
+                if (!(l2 > 1e-24 * m_geo.scale() * m_geo.scale())) return 0.0;
+                if (test) {
+                    const Ray seg{x, e};
+                    for (int k : blockers) {
+                        ++tests;
+                        if (m_geo.surface(k).intersect(seg, 1e-9, 1.0 - 1e-9, HitSide::Any)) return 0.0;
+                    }
+                }
+                return ci * cj / (kPi * da * l2 * l2);
+            };
+            const Estimate in = adaptive_rect(h, Rect{pj.s0, pj.s1, pj.t0, pj.t1}, 0.5 * tol, kMaxInnerRegions, m_inner);
+            inner_err = std::max(inner_err, in.error);
+            return da * in.value;
+        };
+        Estimate e = adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * pi.area, kMaxOuterRegions / 4, m_outer);
+        e.error += inner_err * pi.area;
+        st->segment_tests += tests;
+        return e;
+    }
+
+    void row(int i, DenseMatrix* F, std::vector<double>* E, FormFactorStats* st) const {
+        std::vector<int> blockers, reverse;
+        const int n = m_geo.patch_count();
+        const double tol = m_opt.tolerance;
+        auto note = [&](const Estimate& e) {
+            st->regions += e.regions;
+            st->capped += e.capped;
+        };
+        for (int j = i; j < n; ++j) {
+            ++st->pairs;
+            const bool self = i == j;
+            const double ai = m_geo.patch(i).area, aj = m_geo.patch(j).area;
+            if (self ? !m_geo.surface(m_geo.patch(i).surface).sees_itself() : m_base.culled(i, j)) {
+                if (!self) ++st->pairs_culled;
+                continue;
+            }
+            m_base.occluders(i, j, &blockers, st);
+            std::optional<BoundingSphere> bij, bji;
+            const bool fwd = !self && semi_analytic(i, j, blockers, &bij);
+            const bool bwd = !self && semi_analytic(j, i, blockers, &bji);
+            auto set = [&](int a, int b, const Estimate& e, double area_a) {
+                (*F)(a, b) = e.value / area_a;
+                (*E)[static_cast<std::size_t>(a) * n + b] = e.error / area_a;
+            };
+            if (fwd || bwd) {
+                if (fwd) {
+                    const Estimate e = area_times_f_semi(i, j, bij, tol);
+                    note(e);
+                    ++st->semi_analytic;
+                    set(i, j, e, ai);
+                    if (!bwd) {
+                        set(j, i, e, aj);
+                        ++st->by_reciprocity;
+                    }
+                }
+                if (bwd) {
+                    const Estimate e = area_times_f_semi(j, i, bji, tol);
+                    note(e);
+                    ++st->semi_analytic;
+                    set(j, i, e, aj);
+                    if (!fwd) {
+                        set(i, j, e, ai);
+                        ++st->by_reciprocity;
+                    }
+                }
+                continue;
+            }
+            // Neither direction has a planar receiver free of general occluders: one symmetric
+            // numeric integral gives both entries.
+            const Estimate e = area_times_f_numeric(i, j, blockers, tol, st);
+            note(e);
+            ++st->numeric;
+            set(i, j, e, ai);
+            if (!self) set(j, i, e, aj);
+        }
+    }
+
+private:
+    static constexpr int kMaxOuterRegions = 4096;
+    static constexpr int kMaxInnerRegions = 64;
+    const SceneGeometry& m_geo;
+    const FormFactorOptions& m_opt;
+    const Integrator& m_base;
+    GaussRule m_outer, m_inner;
+};
+
 }  // namespace
 
 FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options) {
@@ -191,25 +430,64 @@ FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactor
     for (const Patch& p : geometry.patches()) ff.area.push_back(p.area);
 
     const Integrator integrator(geometry, options);
-    std::atomic<long long> pairs{0}, culled{0}, checks{0}, checks_culled{0}, tests{0};
+    const AdaptiveIntegrator adaptive(geometry, options, integrator);
+    const bool controlled = options.tolerance > 0.0;
+    ff.tolerance = options.tolerance;
+    if (controlled) {
+        ff.gauss_points = 0;
+        ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
+    }
+    std::mutex merge;
+    FormFactorStats total;
     // Each task owns whole rows i and writes only F(i, j) and F(j, i) for j >= i, so no two
     // tasks write the same entry; results do not depend on the thread count.
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& r) {
         FormFactorStats local;
-        for (int i = r.begin(); i != r.end(); ++i) integrator.row(i, &ff.F, &local);
-        pairs += local.pairs;
-        culled += local.pairs_culled;
-        checks += local.occluder_checks;
-        checks_culled += local.occluders_culled;
-        tests += local.segment_tests;
+        for (int i = r.begin(); i != r.end(); ++i) {
+            if (controlled) adaptive.row(i, &ff.F, &ff.error, &local);
+            else integrator.row(i, &ff.F, &local);
+        }
+        std::lock_guard lock(merge);
+        total.pairs += local.pairs;
+        total.pairs_culled += local.pairs_culled;
+        total.occluder_checks += local.occluder_checks;
+        total.occluders_culled += local.occluders_culled;
+        total.segment_tests += local.segment_tests;
+        total.semi_analytic += local.semi_analytic;
+        total.numeric += local.numeric;
+        total.by_reciprocity += local.by_reciprocity;
+        total.regions += local.regions;
+        total.capped += local.capped;
     });
-    ff.stats.pairs = pairs;
-    ff.stats.pairs_culled = culled;
-    ff.stats.occluder_checks = checks;
-    ff.stats.occluders_culled = checks_culled;
-    ff.stats.segment_tests = tests;
+    ff.stats = total;
     ff.stats.seconds = clock.seconds();
     return ff;
+}
+
+FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, std::optional<double> tolerance,
+                                              std::optional<int> gauss_points, std::optional<bool> visibility) {
+    FormFactorOptions o;
+    o.visibility = visibility.value_or(scene.visibility);
+    if (gauss_points) {
+        o.tolerance = 0.0;
+        o.gauss_points = *gauss_points;
+    } else if (tolerance) {
+        o.tolerance = *tolerance;
+    } else if (scene.gauss_points > 0) {
+        o.tolerance = 0.0;
+        o.gauss_points = scene.gauss_points;
+    } else {
+        o.tolerance = scene.tolerance > 0.0 ? scene.tolerance : kDefaultFormFactorTolerance;
+    }
+    return o;
+}
+
+std::string describe(const FormFactorOptions& o) {
+    char buf[64];
+    if (o.tolerance > 0.0) std::snprintf(buf, sizeof buf, "adaptive, tolerance %.0e", o.tolerance);
+    else std::snprintf(buf, sizeof buf, "Gauss p = %d (%d terms/pair)", o.gauss_points,
+                       o.gauss_points * o.gauss_points * o.gauss_points * o.gauss_points);
+    return buf;
 }
 
 FormFactorChecks check_form_factors(const FormFactors& ff) {
@@ -224,7 +502,24 @@ FormFactorChecks check_form_factors(const FormFactors& ff) {
                 const double a = ff.area[i] * ff.F(i, j), b = ff.area[j] * ff.F(j, i);
                 const double m = std::max(std::abs(a), std::abs(b));
                 if (m > 0.0) c.reciprocity_max_error = std::max(c.reciprocity_max_error, std::abs(a - b) / m);
+                c.reciprocity_abs_error =
+                    std::max(c.reciprocity_abs_error, std::abs(a - b) / std::min(ff.area[i], ff.area[j]));
             }
+        }
+        if (!ff.error.empty()) {
+            double row_est = 0.0;
+            for (int j = 0; j < n; ++j) {
+                const double e = ff.error[static_cast<std::size_t>(i) * n + j];
+                row_est += e;
+                c.max_error_estimate = std::max(c.max_error_estimate, e);
+                if (j > i) {
+                    const double est = ff.area[i] * e + ff.area[j] * ff.error[static_cast<std::size_t>(j) * n + i];
+                    const double diff = std::abs(ff.area[i] * ff.F(i, j) - ff.area[j] * ff.F(j, i));
+                    if (diff > 0.0)
+                        c.reciprocity_vs_estimate = std::max(c.reciprocity_vs_estimate, est > 0.0 ? diff / est : 1e300);
+                }
+            }
+            c.max_row_error_estimate = std::max(c.max_row_error_estimate, row_est);
         }
         const double err = std::abs(row - 1.0);
         if (c.closure_worst_patch < 0 || err > c.closure_max_error) {

@@ -4,6 +4,8 @@
 //          (n_i . e_ij)(n_j . e_ji) / L^4  ds dt dtheta dphi,
 // n the unnormalised normals dP/ds x dP/dt, e the vector joining the points, L its length,
 // evaluated by a tensor Gauss-Legendre rule with p points per parameter (p^4 terms).
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "util/dense_matrix.h"
@@ -13,13 +15,28 @@ namespace radiosa {
 class SceneGeometry;
 
 struct FormFactorOptions {
+    // > 0: error-controlled (the default): every entry is refined until its error estimate is
+    // below this absolute tolerance on F_ij. 0: the paper's fixed tensor Gauss rule of
+    // gauss_points per parameter, kept for comparison (no error estimate).
+    double tolerance = 0.0;
     int gauss_points = 6;
     bool visibility = true;
 };
 
+// The default absolute tolerance on each F_ij (see README, "Form-factor accuracy").
+inline constexpr double kDefaultFormFactorTolerance = 1e-6;
+
+struct FormFactorSettings;
+// The options a run uses: the command line's --gauss-points (fixed rule) or --ff-tolerance,
+// else the scene's form_factors block, else error control at kDefaultFormFactorTolerance.
+FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, std::optional<double> tolerance,
+                                              std::optional<int> gauss_points, std::optional<bool> visibility);
+// "adaptive, tolerance 1e-06" or "Gauss p = 6".
+std::string describe(const FormFactorOptions& o);
+
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 1;
+inline constexpr int kFormFactorAlgorithmVersion = 2;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included
@@ -27,6 +44,12 @@ struct FormFactorStats {
     long long occluder_checks = 0;   // (pair, surface) combinations considered as possible blockers
     long long occluders_culled = 0;  // ... of which proven unable to block (no per-point tests)
     long long segment_tests = 0;     // exact segment-surface intersection tests performed
+    // Error-controlled mode: how each computed direction of a pair was integrated.
+    long long semi_analytic = 0;     // closed-form inner integral (planar receiver), adaptive outer
+    long long numeric = 0;           // adaptive quadrature of both integrals (curved receivers, occluders)
+    long long by_reciprocity = 0;    // entries set from the other direction: A_i F_ij = A_j F_ji
+    long long regions = 0;           // outer integration regions (refinement effort)
+    long long capped = 0;            // integrals that hit the refinement limit before the tolerance
     double seconds = 0.0;
 };
 
@@ -36,6 +59,7 @@ struct FormFactors {
     // Per-entry error estimates, row-major like F; empty when the method gives none.
     std::vector<double> error;
     int gauss_points = 0;
+    double tolerance = 0.0;
     FormFactorStats stats;
 };
 
@@ -45,7 +69,15 @@ struct FormFactorChecks {
     double closure_max_error = 0.0;      // max_i |sum_j F_ij - 1|
     int closure_worst_patch = -1;
     double reciprocity_max_error = 0.0;  // max_ij |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji)
+    double reciprocity_abs_error = 0.0;  // max_ij |F_ij - A_j F_ji / A_i|, on the tolerance's scale
     double min_entry = 0.0;              // most negative entry (must be 0)
+    // Error-controlled matrices: the largest per-entry estimate and the largest row sum of
+    // estimates (a bound for the closure error the quadrature alone can explain).
+    double max_error_estimate = 0.0;
+    double max_row_error_estimate = 0.0;
+    // Reciprocity only over pairs whose two directions were computed independently, relative
+    // to their combined estimates: max |A_i F_ij - A_j F_ji| / (A_i e_ij + A_j e_ji).
+    double reciprocity_vs_estimate = 0.0;
 };
 
 FormFactorChecks check_form_factors(const FormFactors& ff);

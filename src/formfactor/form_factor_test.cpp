@@ -17,7 +17,10 @@ using test::scene_of;
 namespace {
 FormFactors form_factors(const Scene& scene, int p, bool visibility = true) {
     const SceneGeometry geo(scene);
-    return compute_form_factors(geo, {p, visibility});
+    FormFactorOptions o;
+    o.gauss_points = p;
+    o.visibility = visibility;
+    return compute_form_factors(geo, o);
 }
 double row_sum(const FormFactors& ff, int i) {
     double s = 0;

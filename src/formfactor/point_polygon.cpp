@@ -78,6 +78,15 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, 
     if (!(dist > blocker->radius)) return std::max(0.0, whole / (2.0 * kPi));
     const Vec3 d = to_c / dist;
     const double sin_a = blocker->radius / dist, cos_a = std::sqrt(std::max(0.0, 1.0 - sin_a * sin_a));
+    // Quick answers: the cap wholly outside one edge's great circle (nothing blocked), or
+    // wholly inside all of them (the whole cap, sin^2(alpha) n . d).
+    bool inside_all = true;
+    for (int k = 0; k < nc; ++k) {
+        const double side = glm::dot(d, u[k]);
+        if (side <= -sin_a) return std::max(0.0, whole / (2.0 * kPi));
+        inside_all = inside_all && side >= sin_a;
+    }
+    if (inside_all) return std::max(0.0, (whole - 2.0 * kPi * sin_a * sin_a * glm::dot(n, d)) / (2.0 * kPi));
     double blocked = 0.0;
     // (1) polygon edges inside the cap.
     for (int k = 0; k < nc; ++k)

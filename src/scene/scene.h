@@ -43,8 +43,9 @@ struct SurfaceDesc {
 };
 
 struct FormFactorSettings {
-    int gauss_points = 6;   // Gauss-Legendre points per parameter (p^4 terms per pair)
-    bool visibility = true; // test occlusion between quadrature points
+    double tolerance = 0.0;  // absolute tolerance on each F_ij (error-controlled); 0 = not given
+    int gauss_points = 0;    // the paper's fixed rule, p points per parameter; 0 = not given
+    bool visibility = true;  // test occlusion
 };
 
 struct Scene {
@@ -65,6 +66,7 @@ struct Scene {
 inline constexpr int kMaxPatchesPerAxis = 4096;
 inline constexpr int kMaxPatches = 20000;
 inline constexpr int kMaxGaussPoints = 64;
+inline constexpr double kMinFormFactorTolerance = 1e-12;  // below this, round-off dominates
 
 Scene load_scene(const std::string& path);
 Scene parse_scene(const std::string& yaml_text, const std::string& filename);

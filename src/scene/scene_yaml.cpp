@@ -190,8 +190,16 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
                                               std::to_string(kMaxGaussPoints) + ", got " + p->Scalar());
         f.gauss_points = static_cast<int>(v);
     }
+    if (auto t = m.optional("tolerance")) {
+        if (f.gauss_points > 0)
+            throw Error(loc_of(*t, file), "form_factors: give tolerance (error-controlled) or gauss_points (the paper's "
+                                          "fixed rule), not both");
+        f.tolerance = yaml_number(*t, file, "tolerance");
+        if (!(f.tolerance >= kMinFormFactorTolerance && f.tolerance <= 0.1))
+            throw Error(loc_of(*t, file), "tolerance must be in [1e-12, 0.1], got " + t->Scalar());
+    }
     f.visibility = m.boolean_or("visibility", true);
-    m.reject_unknown_keys("gauss_points, visibility");
+    m.reject_unknown_keys("tolerance | gauss_points, visibility");
     return f;
 }
 

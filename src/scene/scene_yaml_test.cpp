@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "formfactor/form_factor.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 
@@ -86,8 +87,13 @@ TEST(SceneYaml, ReadsEveryField) {
 TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
     const Scene s = parse_scene(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n"), "d.yaml");
     EXPECT_EQ(s.name, "d");
-    EXPECT_EQ(s.form_factors.gauss_points, 6);
+    EXPECT_EQ(s.form_factors.gauss_points, 0);  // not given: error control at the default tolerance
+    EXPECT_EQ(s.form_factors.tolerance, 0.0);
     EXPECT_TRUE(s.form_factors.visibility);
+    const FormFactorOptions o = resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, std::nullopt);
+    EXPECT_EQ(o.tolerance, kDefaultFormFactorTolerance);
+    EXPECT_EQ(resolve_form_factor_options(s.form_factors, std::nullopt, 6, std::nullopt).tolerance, 0.0);
+    EXPECT_EQ(resolve_form_factor_options(s.form_factors, 1e-3, std::nullopt, false).tolerance, 1e-3);
     EXPECT_EQ(s.surfaces[0].emission, Rgb(0.0));
 }
 
