@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "../tests/analytic.h"
+#include "formfactor/analytic.h"
 #include "../tests/test_scenes.h"
 #include "geometry/scene_geometry.h"
 

@@ -24,7 +24,7 @@ double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d,
     if (gamma <= 0.0) return 0.0;
     const Vec3 w = unit_or_zero(b - glm::dot(b, a) * a);
     const double p = glm::dot(a, d), q = glm::dot(w, d);
-    const double amp = std::hypot(p, q);
+    const double amp = std::sqrt(p * p + q * q);
     if (amp <= cos_a) return 0.0;
     const double phi0 = std::atan2(q, p), delta = std::acos(std::min(1.0, cos_a / amp));
     double len = 0.0;
@@ -100,7 +100,7 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, 
     for (int k = 0; k < nc; ++k) {
         mk[k] = glm::cross(w[k], w[(k + 1) % nc]);
         const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
-        const double amp = std::hypot(b1, b2);
+        const double amp = std::sqrt(b1 * b1 + b2 * b2);
         if (amp * sin_a <= std::abs(a0) * cos_a) continue;  // the circle does not cross this edge's great circle
         const double tk = std::atan2(b2, b1), beta = std::acos(std::clamp(-cos_a * a0 / (sin_a * amp), -1.0, 1.0));
         for (double t : {tk - beta, tk + beta}) {

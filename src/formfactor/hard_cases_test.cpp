@@ -1,0 +1,146 @@
+// Error-controlled form factors on the configurations that defeat a plain Gauss rule: the
+// true error must be below the requested tolerance and below the reported estimate, and no
+// case may give NaN, inf, a negative factor or a row sum above 1 + tolerance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "formfactor/analytic.h"
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "scene/scene.h"
+#include "../tests/test_scenes.h"
+
+namespace radiosa {
+
+using test::quad;
+using test::scene_of;
+
+namespace {
+
+FormFactors adaptive(const Scene& scene, double tol, bool visibility = true) {
+    const SceneGeometry geo(scene);
+    FormFactorOptions o;
+    o.tolerance = tol;
+    o.visibility = visibility;
+    return compute_form_factors(geo, o);
+}
+
+double err_of(const FormFactors& ff, int i, int j) { return ff.error[static_cast<std::size_t>(i) * ff.F.n + j]; }
+
+// Every entry finite and >= 0, every row at most 1 + n * tol, every estimate finite.
+void expect_sane(const FormFactors& ff, double tol) {
+    const int n = ff.F.n;
+    for (int i = 0; i < n; ++i) {
+        double row = 0.0;
+        for (int j = 0; j < n; ++j) {
+            ASSERT_TRUE(std::isfinite(ff.F(i, j))) << i << "," << j;
+            ASSERT_GE(ff.F(i, j), 0.0) << i << "," << j;
+            ASSERT_TRUE(std::isfinite(err_of(ff, i, j)));
+            row += ff.F(i, j);
+        }
+        EXPECT_LE(row, 1.0 + n * tol) << "row " << i;
+    }
+}
+
+// F_01 against an answer known in advance, at several tolerances.
+void expect_within(const Scene& scene, double exact, const char* what) {
+    for (double tol : {1e-4, 1e-6, 1e-8}) {
+        SCOPED_TRACE(std::string(what) + " at tolerance " + std::to_string(tol));
+        const FormFactors ff = adaptive(scene, tol);
+        expect_sane(ff, tol);
+        const double err = std::abs(ff.F(0, 1) - exact);
+        EXPECT_LE(err, tol);
+        EXPECT_LE(err, err_of(ff, 0, 1) + 1e-15);
+        // The other direction was computed on its own and agrees within both estimates.
+        const double back = ff.area[1] * ff.F(1, 0) / ff.area[0];
+        EXPECT_LE(std::abs(back - exact), tol);
+    }
+}
+
+}  // namespace
+
+TEST(HardCases, PerpendicularSquaresSharingAnEdge) {
+    expect_within(scene_of(quad("floor", test::kFloor) + quad("wall", test::kWall)),
+                  analytic::perpendicular_rectangles(1, 1, 1), "shared edge");
+}
+
+TEST(HardCases, PerpendicularSquaresSharingOnlyACorner) {
+    expect_within(scene_of(quad("floor", "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]") +
+                           quad("wall", "[[1, 0, 0], [1, 0, 1], [2, 0, 1], [2, 0, 0]]")),
+                  analytic::perpendicular_squares_corner(), "shared corner");
+}
+
+TEST(HardCases, NearTouchingPerpendicularSquares) {
+    for (double gap : {1e-3, 1e-6}) {
+        const std::string g = std::to_string(gap), h = std::to_string(1.0 + gap);
+        expect_within(scene_of(quad("floor", test::kFloor) +
+                               quad("wall", "[[0, 0, " + g + "], [0, 0, " + h + "], [1, 0, " + h + "], [1, 0, " + g + "]]")),
+                      analytic::perpendicular_rectangles_gap(1, 1, gap, 1), "gap");
+    }
+}
+
+TEST(HardCases, VeryElongatedOpposedStrips) {
+    // 1 x 1e-4 strips, 10,000 times longer than wide, facing each other at distance 1.
+    expect_within(scene_of(quad("a", "[[0, 0, 0], [1, 0, 0], [1, 1e-4, 0], [0, 1e-4, 0]]") +
+                           quad("b", "[[0, 0, 1], [0, 1e-4, 1], [1, 1e-4, 1], [1, 0, 1]]")),
+                  analytic::parallel_rectangles(1, 1e-4, 1), "strips");
+}
+
+TEST(HardCases, GrazingNearlyCoplanarPatchesSharingAnEdge) {
+    // Two squares at 179.9 degrees: a factor near zero, never negative or NaN.
+    const double a = 0.1 * kPi / 180.0;
+    const std::string zs = std::to_string(std::sin(a)), xs = std::to_string(-std::cos(a));
+    const Scene s = scene_of(quad("a", test::kFloor) +
+                             quad("b", "[[0, 0, 0], [0, 1, 0], [" + xs + ", 1, " + zs + "], [" + xs + ", 0, " + zs + "]]"));
+    const FormFactors ff = adaptive(s, 1e-6);
+    expect_sane(ff, 1e-6);
+    EXPECT_LT(ff.F(0, 1), 1e-3);
+}
+
+TEST(HardCases, InsideOfASphereSeesItselfExactly) {
+    // F_ij = A_j / (4 pi R^2) for every pair, F_ii included (the concave patch sees itself).
+    const Scene s = parse_scene("closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n"
+                                "    radius: 2\n    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                                "shell.yaml");
+    const FormFactors ff = adaptive(s, 1e-8);
+    expect_sane(ff, 1e-8);
+    for (int i = 0; i < ff.F.n; ++i)
+        for (int j = 0; j < ff.F.n; ++j) {
+            const double exact = ff.area[j] / (4 * kPi * 4.0);
+            EXPECT_NEAR(ff.F(i, j), exact, 1e-8) << i << "," << j;
+            EXPECT_LE(std::abs(ff.F(i, j) - exact), err_of(ff, i, j) + 1e-15);
+        }
+}
+
+TEST(HardCases, SphereTangentToTheFloorOfAClosedBox) {
+    // A sphere resting on the floor of a closed box: the patches around the contact point
+    // nearly touch the floor. Rows of a closed scene sum to 1.
+    std::string walls;
+    walls += quad("floor", "[[-2, -2, -1], [2, -2, -1], [2, 2, -1], [-2, 2, -1]]", 3, 3);
+    walls += quad("ceiling", "[[-2, -2, 3], [-2, 2, 3], [2, 2, 3], [2, -2, 3]]", 3, 3);
+    walls += quad("x0", "[[-2, -2, -1], [-2, 2, -1], [-2, 2, 3], [-2, -2, 3]]", 3, 3);
+    walls += quad("x1", "[[2, -2, -1], [2, -2, 3], [2, 2, 3], [2, 2, -1]]", 3, 3);
+    walls += quad("y0", "[[-2, -2, -1], [-2, -2, 3], [2, -2, 3], [2, -2, -1]]", 3, 3);
+    walls += quad("y1", "[[-2, 2, -1], [2, 2, -1], [2, 2, 3], [-2, 2, 3]]", 3, 3);
+    walls += "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
+             "    reflectance: [0, 0, 0]\n";
+    const FormFactors ff = adaptive(scene_of(walls, true), 1e-6);
+    expect_sane(ff, 1e-6);
+    const FormFactorChecks c = check_form_factors(ff);
+    EXPECT_LT(c.closure_max_error, 1e-5);
+    EXPECT_LT(c.reciprocity_vs_estimate, 1.0);
+}
+
+TEST(HardCases, SeedSceneClosesWithinTheDefaultTolerance) {
+    const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const FormFactors ff = adaptive(s, kDefaultFormFactorTolerance);
+    expect_sane(ff, kDefaultFormFactorTolerance);
+    const FormFactorChecks c = check_form_factors(ff);
+    EXPECT_LT(c.closure_max_error, 1e-6);
+    EXPECT_LT(c.reciprocity_abs_error, 1e-6);
+    EXPECT_LT(c.reciprocity_vs_estimate, 1.0);  // reciprocity holds within the estimates
+    EXPECT_EQ(ff.stats.capped, 0);
+}
+
+}  // namespace radiosa
