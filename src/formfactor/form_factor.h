@@ -21,6 +21,9 @@ struct FormFactorOptions {
     double tolerance = 0.0;
     int gauss_points = 6;
     bool visibility = true;
+
+    static FormFactorOptions gauss(int p, bool visibility = true) { return {0.0, p, visibility}; }
+    static FormFactorOptions adaptive(double tol, bool visibility = true) { return {tol, 6, visibility}; }
 };
 
 // The default absolute tolerance on each F_ij (see README, "Form-factor accuracy").

@@ -73,7 +73,7 @@ TEST(FormFactor, SphereInteriorIsAreaRatio) {
     const SceneGeometry geo(s);
     // p = 8: the only error left is the Gauss rule's integral of the area element
     // (sin theta), 1.5e-10 relative at p = 4.
-    const FormFactors ff = compute_form_factors(geo, {8, true});
+    const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(8, true));
     const double total = 4 * kPi * 4.0;
     for (int i = 0; i < 32; ++i) {
         for (int j = 0; j < 32; ++j)
@@ -87,7 +87,7 @@ TEST(FormFactor, SphereInCubeSeesEachFaceEqually) {
     // A sphere centred in a cube sends 1/6 of its energy to each face (symmetry, closure).
     const Scene scene = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
     const SceneGeometry geo(scene);
-    const FormFactors ff = compute_form_factors(geo, {6, true});
+    const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(6, true));
     const int sphere = scene.find_surface("sphere");
     double to_face[6] = {0};
     for (int i = geo.first_patch(sphere); i < geo.first_patch(sphere) + 32; ++i) {

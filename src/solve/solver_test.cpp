@@ -24,7 +24,7 @@ TEST(Solver, FurnaceRadiosityIsEmissionOverOneMinusRho) {
         const Scene s = furnace(rho, 1.0);
         const SceneGeometry geo(s);
         // p = 8 makes the furnace's form factors exact to rounding (see SphereInteriorIsAreaRatio).
-        const FormFactors ff = compute_form_factors(geo, {8, true});
+        const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(8, true));
         const Materials m = patch_materials(s, geo);
         for (SolverMethod method : {SolverMethod::LU, SolverMethod::GaussJordan}) {
             const RadiositySolver solver(ff.F, m.rho, method);
@@ -45,7 +45,7 @@ TEST(Solver, FurnaceRadiosityIsEmissionOverOneMinusRho) {
 TEST(Solver, IdenticalChannelsShareOneFactorisation) {
     const Scene grey = furnace(0.5, 1.0);
     const SceneGeometry geo(grey);
-    const FormFactors ff = compute_form_factors(geo, {2, true});
+    const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(2, true));
     const Materials m = patch_materials(grey, geo);
     EXPECT_EQ(RadiositySolver(ff.F, m.rho, SolverMethod::LU).factorisations(), 1);
     std::vector<Rgb> rho = m.rho;
@@ -56,7 +56,7 @@ TEST(Solver, IdenticalChannelsShareOneFactorisation) {
 TEST(Solver, SeedSceneLuAgreesWithGaussJordanAndIsLinearInEmission) {
     const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
     const SceneGeometry geo(s);
-    const FormFactors ff = compute_form_factors(geo, {4, true});
+    const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(4, true));
     const Materials m = patch_materials(s, geo);
     const RadiositySolver lu(ff.F, m.rho, SolverMethod::LU);
     EXPECT_EQ(lu.factorisations(), 2);  // sphere (0.5, 0.5, 1.0): red and green alike
