@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include "app/accuracy_cmd.h"
 #include "app/cache_cmd.h"
 #include "app/formfactors_cmd.h"
 #include "app/sequence_job.h"
@@ -131,6 +132,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         app.add_subcommand("formfactors", "Compute or load a scene's form factors, check and export them");
     add_formfactors_options(formfactors, &ffjob, &quiet);
 
+    AccuracyJob accuracy_job;
+    CLI::App* accuracy = app.add_subcommand(
+        "accuracy", "Form-factor error against run time on configurations with known answers (CSV, Markdown, plot)");
+    accuracy->add_option("--out", accuracy_job.out_dir, "Output directory (default out/accuracy)");
+    accuracy->add_flag("--quick", accuracy_job.quick, "A few methods only (a smoke test)");
+    accuracy->add_option("--budget", accuracy_job.budget_s,
+                         "Stop refining a method on a configuration once one run takes longer (seconds, default 30)")
+        ->check(CLI::Range(0.01, 3600.0));
+    accuracy->add_option("--threads", accuracy_job.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+
     CacheSettings cache_dir;
     CLI::App* cache = app.add_subcommand("cache", "Inspect or empty the form-factor cache");
     cache->require_subcommand(1, 1);
@@ -148,7 +159,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             return 0;
         } catch (const CLI::ParseError& e) {
             if (e.get_exit_code() == 0) {  // --help on a subcommand
-                for (CLI::App* c : {render, formfactors, cache_list_cmd, cache_verify_cmd, cache_clear_cmd, cache})
+                for (CLI::App* c : {render, formfactors, accuracy, cache_list_cmd, cache_verify_cmd, cache_clear_cmd, cache})
                     if (c->parsed()) {
                         out << c->help();
                         return 0;
@@ -167,6 +178,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         if (cache_verify_cmd->parsed()) return cache_verify(dir, out) ? 0 : 1;
         if (cache_clear_cmd->parsed()) {
             cache_clear(dir, out);
+            return 0;
+        }
+        if (accuracy->parsed()) {
+            run_accuracy(accuracy_job, out);
             return 0;
         }
         if (formfactors->parsed()) {

@@ -1,0 +1,20 @@
+#pragma once
+// `radiosa accuracy`: error against run time of each form-factor method on configurations
+// whose answers are known in advance (closed forms, symmetry, closure), written as a CSV, a
+// Markdown table and a log-log plot.
+#include <ostream>
+#include <string>
+
+namespace radiosa {
+
+struct AccuracyJob {
+    std::string out_dir = "out/accuracy";
+    bool quick = false;       // a few methods only (smoke test)
+    double budget_s = 30.0;   // stop refining a method on a configuration once a run exceeds this
+    int threads = 0;
+};
+
+// Runs the study, writes accuracy.csv, accuracy.md and accuracy.png into out_dir, prints a summary.
+void run_accuracy(const AccuracyJob& job, std::ostream& out);
+
+}  // namespace radiosa
