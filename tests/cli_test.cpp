@@ -7,36 +7,23 @@
 #include <sstream>
 
 #include "app/cli.h"
+#include "cli_run.h"
 #include "render/image_io.h"
 
 namespace radiosa {
 
 namespace fs = std::filesystem;
+using test::CliRun;
+using test::fresh_dir;
+using test::read_json;
+using test::run;
 
 namespace {
-struct CliRun {
-    int code;
-    std::string out, err;
-};
-CliRun run(std::vector<std::string> args) {
-    args.insert(args.begin(), "radiosa");
-    std::vector<const char*> argv;
-    for (auto& a : args) argv.push_back(a.c_str());
-    std::ostringstream out, err;
-    const int code = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
-    return {code, out.str(), err.str()};
-}
 const std::string kScene = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
 const std::string kSceneC = RADIOSA_SOURCE_DIR "/scenes/baranoski1991-c.yaml";
 const std::string kCamA = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
 const std::string kCamB = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-b.yaml";
 
-fs::path fresh_dir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
 }  // namespace
 
 TEST(Cli, RendersImageAndReport) {

@@ -48,10 +48,7 @@ std::string run_formfactors(const FormFactorsJob& job) {
         j["surfaces"] = geometry.surface_count();
         j["patches"] = geometry.patch_count();
         j["closed"] = scene.closed;
-        j["form_factor_method"] = ffo.tolerance > 0 ? "adaptive" : "gauss";
-        j["form_factor_tolerance"] = ffo.tolerance > 0 ? json(ffo.tolerance) : json(nullptr);
-        j["gauss_points"] = ffo.tolerance > 0 ? json(nullptr) : json(ffo.gauss_points);
-        j["visibility"] = ffo.visibility;
+        add_form_factor_method(j, ffo);
         j["matrix"] = job.matrix_path ? json(*job.matrix_path) : json(nullptr);
         j["closure_max_error"] = scene.closed ? json(checks.closure_max_error) : json(nullptr);
         j["closure_worst_patch"] = scene.closed ? json(worst) : json(nullptr);

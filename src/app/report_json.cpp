@@ -31,6 +31,15 @@ nlohmann::json form_factor_stats_json(const FormFactorStats& s) {
             {"capped", s.capped}};
 }
 
+void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
+    using nlohmann::json;
+    const bool adaptive = o.tolerance > 0.0;
+    j["form_factor_method"] = adaptive ? "adaptive" : "gauss";
+    j["form_factor_tolerance"] = adaptive ? json(o.tolerance) : json(nullptr);
+    j["gauss_points"] = adaptive ? json(nullptr) : json(o.gauss_points);
+    j["visibility"] = o.visibility;
+}
+
 void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c, bool closed) {
     j["reciprocity_abs_error"] = c.reciprocity_abs_error;
     j["reciprocity_vs_estimate"] = c.reciprocity_vs_estimate;

@@ -13,6 +13,9 @@ nlohmann::json cache_outcome_json(const CacheOutcome& c);
 std::string cache_outcome_summary(const CacheOutcome& c);
 // "form_factor_stats": culling counts and, for error-controlled matrices, how entries were integrated.
 nlohmann::json form_factor_stats_json(const FormFactorStats& s);
+// Adds form_factor_method ("adaptive" | "gauss"), form_factor_tolerance and gauss_points (the
+// one that does not apply is null) and visibility.
+void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);
 // Adds max_error_estimate, max_row_error_estimate, reciprocity_abs_error, reciprocity_vs_estimate.
 void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c, bool closed);
 

@@ -185,7 +185,7 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     // Form factors: once for the whole sequence.
     const FormFactorOptions ffo =
         resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
-    r.ff_tolerance = ffo.tolerance;
+    r.ff_options = ffo;
     r.gauss_points = ffo.gauss_points;
     r.visibility = ffo.visibility;
     clock = Stopwatch();
@@ -278,10 +278,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
     j["outputs"] = job.outputs;
     j["surfaces"] = r.surfaces;
     j["patches"] = r.patches;
-    j["form_factor_method"] = r.ff_tolerance > 0 ? "adaptive" : "gauss";
-    j["form_factor_tolerance"] = r.ff_tolerance > 0 ? json(r.ff_tolerance) : json(nullptr);
-    j["gauss_points"] = r.ff_tolerance > 0 ? json(nullptr) : json(r.gauss_points);
-    j["visibility"] = r.visibility;
+    add_form_factor_method(j, r.ff_options);
     j["threads"] = r.threads;
     j["fps"] = r.fps;
     j["frame_count"] = r.frames.size();

@@ -49,7 +49,7 @@ struct SequenceReport {
     int patches = 0, surfaces = 0, threads = 0;
     double fps = 0;
     int gauss_points = 0;
-    double ff_tolerance = 0.0;
+    FormFactorOptions ff_options;
     bool visibility = true;
     CacheOutcome cache;
     FormFactorStats form_factor_stats;

@@ -89,10 +89,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["surfaces"] = r.surfaces;
     j["patches"] = r.patches;
     j["closed"] = r.closed;
-    j["form_factor_method"] = r.ff_options.tolerance > 0 ? "adaptive" : "gauss";
-    j["form_factor_tolerance"] = r.ff_options.tolerance > 0 ? json(r.ff_options.tolerance) : json(nullptr);
-    j["gauss_points"] = r.ff_options.tolerance > 0 ? json(nullptr) : json(r.gauss_points);
-    j["visibility"] = r.visibility;
+    add_form_factor_method(j, r.ff_options);
     j["threads"] = r.threads;
     j["image"] = {{"width", job.render.width}, {"height", job.render.height},
                   {"samples_per_axis", job.render.samples}, {"exposure_stops", job.exposure}};

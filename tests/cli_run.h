@@ -1,0 +1,43 @@
+#pragma once
+// Running the command line in-process for the end-to-end tests, and their scratch directories.
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/cli.h"
+
+namespace radiosa::test {
+
+struct CliRun {
+    int code;
+    std::string out, err;
+};
+
+inline CliRun run(std::vector<std::string> args) {
+    args.insert(args.begin(), "radiosa");
+    std::vector<const char*> argv;
+    for (auto& a : args) argv.push_back(a.c_str());
+    std::ostringstream out, err;
+    const int code = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+    return {code, out.str(), err.str()};
+}
+
+// An empty directory under the system's temporary directory.
+inline std::filesystem::path fresh_dir(const std::string& name) {
+    const std::filesystem::path d = std::filesystem::temp_directory_path() / name;
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+inline nlohmann::json read_json(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    return nlohmann::json::parse(in);
+}
+
+inline const std::string kSeedScene = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
+
+}  // namespace radiosa::test
