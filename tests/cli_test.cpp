@@ -117,3 +117,32 @@ TEST(Cli, HelpExitsZero) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+TEST(Cli, NoSteadyStateIsRefusedAndNearSingularWarns) {
+    const fs::path d = fresh_dir("radiosa_cli_furnace");
+    auto furnace = [&](const std::string& rho) {
+        const fs::path p = d / ("f" + rho + ".yaml");
+        std::ofstream(p) << "closed: true\nform_factors:\n  tolerance: 1e-8\nsurfaces:\n  - name: shell\n    type: sphere\n"
+                            "    center: [0, 0, 0]\n    radius: 1\n    facing: inward\n    patches: [8, 4]\n"
+                            "    reflectance: [" << rho << ", " << rho << ", " << rho << "]\n    emission: [1, 1, 1]\n";
+        return p.string();
+    };
+    const std::string cam = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
+    const std::string one = furnace("1");
+    CliRun r = run({"render", one, "-c", cam, "-o", (d / "x.png").string(), "--no-cache", "--width", "8", "--height", "8"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "error: " + one + ": every reflectance is 1 in the red channel of a closed scene: light is never "
+                     "absorbed, so radiosity grows without bound and there is no steady state (make some reflectance "
+                     "< 1, or the scene open)\n");
+    EXPECT_FALSE(fs::exists(d / "x.png"));
+    const std::string near = furnace("0.9995");
+    r = run({"render", near, "-c", cam, "-o", (d / "y.exr").string(), "--no-cache", "--width", "8", "--height", "8",
+             "-q"});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_EQ(r.err.rfind("warning: " + near + ": nearly singular radiosity system in the red channel", 0), 0u) << r.err;
+    fs::remove_all(d);
+}
+
+}  // namespace radiosa

@@ -206,7 +206,23 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     ColourHistogram histogram;
     EncoderThread encoder(std::move(sinks), &frames);
 
-    std::vector<std::unique_ptr<RadiositySolver>> solvers(plan.reflectances.size());
+    // Every factorisation the plan needs, before any frame is written, so that a system with no
+    // steady state is refused with nothing on disk; each one's time is charged to the frame
+    // that first uses it.
+    std::vector<std::unique_ptr<RadiositySolver>> solvers;
+    for (const auto& rho : plan.reflectances) {
+        solvers.push_back(std::make_unique<RadiositySolver>(ff.F, rho, job.solver));
+        r.factorisations += solvers.back()->factorisations();
+    }
+    {
+        std::string last_warning;
+        for (const auto& fp : plan.frames) {
+            if (fp.solve == SolveAction::Reused) continue;
+            const std::string w = check_steady_state(*solvers[fp.reflectance_set], plan.reflectances[fp.reflectance_set],
+                                                     plan.solutions[fp.solution].E, scene.closed, job.sequence_path);
+            if (!w.empty() && w != last_warning) job.warn(last_warning = w);
+        }
+    }
     std::vector<std::vector<Rgb>> solutions(plan.solutions.size());
     std::unique_ptr<NodeRadiosity> nodes;
     int nodes_solution = -1;
@@ -217,11 +233,8 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
         const FramePlan& fp = rec.plan;
         clock = Stopwatch();
         if (fp.solve != SolveAction::Reused) {
-            auto& solver = solvers[fp.reflectance_set];
-            if (!solver) {
-                solver = std::make_unique<RadiositySolver>(ff.F, plan.reflectances[fp.reflectance_set], job.solver);
-                r.factorisations += solver->factorisations();
-            }
+            const auto& solver = solvers[fp.reflectance_set];
+            if (fp.solve == SolveAction::Factorised) rec.solve_s += solver->factorise_seconds();
             solutions[fp.solution] = solver->solve(plan.solutions[fp.solution].E);
             r.channel_solves += solver->last_channel_solves();
         }

@@ -60,6 +60,12 @@ StillReport run_still(const StillJob& job) {
     clock = Stopwatch();
     const Materials mat = patch_materials(scene, geometry);
     const RadiositySolver solver(ff.F, mat.rho, job.solver);
+    if (const std::string w = check_steady_state(solver, mat.rho, mat.E, scene.closed, job.scene_path); !w.empty())
+        job.warn(w);
+    for (int c = 0; c < 3; ++c) {
+        r.spectral_radius = std::max(r.spectral_radius, solver.stability(c).spectral_hi);
+        r.condition_estimate = std::max(r.condition_estimate, solver.stability(c).condition);
+    }
     const std::vector<Rgb> B = solver.solve(mat.E);
     r.times.solve_s = clock.seconds();
     r.factorisations = solver.factorisations();
@@ -105,6 +111,8 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
     j["form_factor_cache"] = cache_outcome_json(r.cache);
     j["solve"] = {{"method", solver_method_name(job.solver)},
+                  {"spectral_radius", r.spectral_radius},
+                  {"condition_estimate", r.condition_estimate > 0 ? json(r.condition_estimate) : json(nullptr)},
                   {"factorisations", r.factorisations},
                   {"residual", r.solve.residual},
                   {"emitted_power", {r.solve.emitted_power.r, r.solve.emitted_power.g, r.solve.emitted_power.b}},

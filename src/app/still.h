@@ -45,6 +45,8 @@ struct StillReport {
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]"
     int factorisations = 0;
+    double spectral_radius = 0.0;     // upper bound, max over channels, of the spectral radius of rho F
+    double condition_estimate = 0.0;  // max over channels of the LU's condition estimate (0: none)
     SolveDiagnostics solve;
     StageTimes times;
 };

@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -84,8 +86,45 @@ struct RadiositySolver::Impl {
     std::vector<Eigen::PartialPivLU<RowMatrix>> lu;  // one per distinct channel (LU only)
     std::vector<RowMatrix> systems;                  // one per distinct channel (Gauss-Jordan)
     int slot[3] = {0, 0, 0};
+    std::vector<RadiositySolver::Stability> stability;  // per distinct channel
     double factorise_s = 0.0;
 };
+
+namespace {
+
+RadiositySolver::Stability spectral_bounds(const DenseMatrix& F, const std::vector<Rgb>& rho, int c) {
+    // For a non-negative matrix A and a positive vector x, min_i (Ax)_i / x_i <= rho(A) <=
+    // max_i (Ax)_i / x_i; power iterations from x = 1 tighten both bounds.
+    const int n = F.n;
+    std::vector<double> x(n, 1.0), y(n);
+    RadiositySolver::Stability s;
+    for (int it = 0; it < 8; ++it) {
+        double lo = std::numeric_limits<double>::infinity(), hi = 0.0, norm = 0.0;
+        for (int i = 0; i < n; ++i) {
+            double sum = 0.0;
+            for (int j = 0; j < n; ++j) sum += F(i, j) * x[j];
+            y[i] = rho[i][c] * sum;
+            norm = std::max(norm, y[i]);
+        }
+        for (int i = 0; i < n; ++i) {
+            const double r = x[i] > 0.0 ? y[i] / x[i] : 0.0;
+            lo = std::min(lo, r);
+            hi = std::max(hi, r);
+        }
+        s.spectral_lo = std::max(s.spectral_lo, lo);
+        s.spectral_hi = it == 0 ? hi : std::min(s.spectral_hi, hi);
+        if (!(norm > 0.0)) break;  // nothing reflects
+        bool positive = true;
+        for (int i = 0; i < n; ++i) {
+            x[i] = y[i] / norm;
+            positive = positive && x[i] > 0.0;
+        }
+        if (!positive) break;  // the bounds need a positive vector
+    }
+    return s;
+}
+
+}  // namespace
 
 RadiositySolver::RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& rho, SolverMethod method)
     : m(std::make_unique<Impl>()) {
@@ -108,8 +147,15 @@ RadiositySolver::RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& r
         }
         m->slot[c] = distinct++;
         RowMatrix M = system_matrix(F, rho, c);
-        if (method == SolverMethod::LU) m->lu.emplace_back(M);
-        else m->systems.push_back(std::move(M));
+        Stability st = spectral_bounds(F, rho, c);
+        if (method == SolverMethod::LU) {
+            m->lu.emplace_back(M);
+            const double rc = m->lu.back().rcond();
+            st.condition = rc > 0.0 ? 1.0 / rc : std::numeric_limits<double>::infinity();
+        } else {
+            m->systems.push_back(std::move(M));
+        }
+        m->stability.push_back(st);
     }
     m->factorise_s = clock.seconds();
 }
@@ -121,6 +167,41 @@ int RadiositySolver::factorisations() const {
 }
 
 double RadiositySolver::factorise_seconds() const { return m->factorise_s; }
+
+const RadiositySolver::Stability& RadiositySolver::stability(int channel) const { return m->stability[m->slot[channel]]; }
+
+std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
+                               bool closed, const std::string& scene_file) {
+    static const char* names[3] = {"red", "green", "blue"};
+    std::string warning;
+    for (int c = 0; c < 3; ++c) {
+        bool lit = false, all_one = true;
+        for (std::size_t i = 0; i < rho.size(); ++i) {
+            lit = lit || E[i][c] > 0.0;
+            all_one = all_one && rho[i][c] == 1.0;
+        }
+        if (!lit) continue;
+        const RadiositySolver::Stability& s = solver.stability(c);
+        if (closed && all_one)
+            throw Error(scene_file + ": every reflectance is 1 in the " + names[c] +
+                        " channel of a closed scene: light is never absorbed, so radiosity grows without bound and "
+                        "there is no steady state (make some reflectance < 1, or the scene open)");
+        if (s.spectral_lo >= 1.0)
+            throw Error(scene_file + ": the " + names[c] + " channel has no steady state: the spectral radius of rho F is " +
+                        std::to_string(s.spectral_lo) + " >= 1 (reflectances too high for the form factors; lower them)");
+        if (s.spectral_hi >= 0.999 - 1e-9 && warning.empty()) {
+            char buf[320];
+            std::snprintf(buf, sizeof buf,
+                          "%s: nearly singular radiosity system in the %s channel: spectral radius of rho F in [%.6f, "
+                          "%.6f], condition estimate %.1e; solved by partial-pivoting LU, expect relative error up to "
+                          "~%.0e",
+                          scene_file.c_str(), names[c], s.spectral_lo, s.spectral_hi, s.condition,
+                          std::max(1e-16, s.condition * 1e-16));
+            warning = buf;
+        }
+    }
+    return warning;
+}
 
 std::vector<Rgb> RadiositySolver::solve(const std::vector<Rgb>& E) const {
     const int n = static_cast<int>(E.size());

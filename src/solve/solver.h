@@ -38,6 +38,14 @@ public:
 
     // Channels with identical reflectance share one factorisation.
     int factorisations() const;
+    // Stability of (I - diag(rho_c) F) for colour channel c: bounds on the spectral radius of
+    // diag(rho_c) F (Collatz-Wielandt, tightened by a few power iterations; the system has a
+    // non-negative steady state only when it is below 1) and, for LU, an estimate of the
+    // 1-norm condition number (0 when not estimated).
+    struct Stability {
+        double spectral_lo = 0.0, spectral_hi = 0.0, condition = 0.0;
+    };
+    const Stability& stability(int channel) const;
     // Substitutions (or eliminations) the last solve() ran: channels with identical
     // reflectance and emission, and dark channels, need none of their own.
     int last_channel_solves() const { return m_last_channel_solves; }
@@ -48,6 +56,13 @@ private:
     std::unique_ptr<Impl> m;
     mutable int m_last_channel_solves = 0;
 };
+
+// Refuses (throws Error naming `scene_file`) a system without a steady state — reflectance 1
+// in every patch of a closed scene for a lit channel, or a spectral radius of rho F at or above
+// 1 — and returns a one-line warning, or "", when it is nearly singular (spectral radius
+// >= 0.999: radiosity amplifies emission 1000-fold or more and round-off with it).
+std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
+                               bool closed, const std::string& scene_file);
 
 struct SolveDiagnostics {
     // max over channels of ||(I - rho F) B - E|| / ||E|| (0 when E = 0)

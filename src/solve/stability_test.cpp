@@ -1,0 +1,127 @@
+// Stiff and extreme scenes with answers known in advance: the furnace B = E / (1 - rho) as
+// rho -> 1, no steady state refused, scale and emission invariance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "scene/scene.h"
+#include "solve/solver.h"
+
+namespace radiosa {
+
+namespace {
+
+Scene furnace(double rho, double emission = 1.0) {
+    const std::string r = std::to_string(rho), e = std::to_string(emission);
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+                  "    facing: inward\n    patches: [8, 4]\n    reflectance: [%.17g, %.17g, %.17g]\n"
+                  "    emission: [%.17g, %.17g, %.17g]\n",
+                  rho, rho, rho, emission, emission, emission);
+    return parse_scene(buf, "furnace.yaml");
+}
+
+struct Solved {
+    std::vector<Rgb> B;
+    RadiositySolver::Stability stability;
+    std::string warning;
+};
+
+Solved solve(const Scene& s, double tol = 1e-10) {
+    const SceneGeometry g(s);
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(tol));
+    const Materials m = patch_materials(s, g);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    Solved out;
+    out.warning = check_steady_state(solver, m.rho, m.E, s.closed, s.file);
+    out.B = solver.solve(m.E);
+    out.stability = solver.stability(0);
+    return out;
+}
+
+double max_rel_error(const std::vector<Rgb>& B, double exact) {
+    double e = 0.0;
+    for (const Rgb& b : B) e = std::max(e, std::abs(b.r - exact) / exact);
+    return e;
+}
+
+}  // namespace
+
+// Measured: 2.9e-12, 3.2e-10, 3.2e-7: the form factors' error (~3e-13 relative) amplified by 1/(1 - rho).
+TEST(Stiff, FurnaceAsReflectanceApproachesOne) {
+    struct Case {
+        double rho, bound;
+        bool warns;
+    };
+    for (const Case& c : {Case{0.9, 1e-9, false}, Case{0.999, 1e-7, true}, Case{0.999999, 1e-4, true}}) {
+        SCOPED_TRACE(c.rho);
+        const Solved s = solve(furnace(c.rho));
+        EXPECT_LT(max_rel_error(s.B, 1.0 / (1.0 - c.rho)), c.bound);
+        { char b[32]; std::snprintf(b, sizeof b, "%.3e", max_rel_error(s.B, 1.0 / (1.0 - c.rho))); RecordProperty("rel_error_" + std::to_string(c.rho), b); }
+        EXPECT_NEAR(s.stability.spectral_hi, c.rho, 1e-9);
+        EXPECT_EQ(!s.warning.empty(), c.warns) << s.warning;
+        EXPECT_GT(s.stability.condition, 0.5 / (1.0 - c.rho));  // ~ 2 / (1 - rho) for the 1-norm
+    }
+}
+
+TEST(Stiff, ReflectanceOneEverywhereHasNoSteadyState) {
+    const Scene s = furnace(1.0);
+    const SceneGeometry g(s);
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-8));
+    const Materials m = patch_materials(s, g);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    try {
+        check_steady_state(solver, m.rho, m.E, true, "furnace.yaml");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "furnace.yaml: every reflectance is 1 in the red channel of a closed scene: light is never absorbed, "
+                  "so radiosity grows without bound and there is no steady state (make some reflectance < 1, or the "
+                  "scene open)");
+    }
+    // The same reflectances with no light: nothing to solve, nothing refused.
+    std::vector<Rgb> dark(m.E.size(), Rgb(0.0));
+    EXPECT_EQ(check_steady_state(solver, m.rho, dark, true, "furnace.yaml"), "");
+}
+
+TEST(Extreme, EmissionOf1e30And1em30ScalesExactly) {
+    const Scene base = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const SceneGeometry g(base);
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-4));
+    const Materials m = patch_materials(base, g);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    const std::vector<Rgb> B = solver.solve(m.E);
+    for (double k : {1e30, 1e-30}) {
+        std::vector<Rgb> E = m.E;
+        for (Rgb& e : E) e *= k;
+        const std::vector<Rgb> Bk = solver.solve(E);
+        for (std::size_t i = 0; i < B.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_TRUE(std::isfinite(Bk[i][c]));
+                EXPECT_NEAR(Bk[i][c] / k, B[i][c], 1e-13 * B[i][c]) << k;
+            }
+    }
+}
+
+TEST(Extreme, SceneScaledBy1em6And1e6HasTheSameFormFactors) {
+    const Scene base = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const FormFactors f1 = compute_form_factors(SceneGeometry(base), FormFactorOptions::adaptive(1e-6));
+    for (double k : {1e-6, 1e6}) {
+        Scene s = base;
+        for (SurfaceDesc& d : s.surfaces) {
+            for (Vec3& c : d.corners) c *= k;
+            d.center *= k;
+            d.radius *= k;
+        }
+        const FormFactors fk = compute_form_factors(SceneGeometry(s), FormFactorOptions::adaptive(1e-6));
+        double worst = 0.0;
+        for (std::size_t e = 0; e < f1.F.data.size(); ++e) worst = std::max(worst, std::abs(fk.F.data[e] - f1.F.data[e]));
+        EXPECT_LT(worst, 2e-6) << "scale " << k;  // both within their 1e-6 tolerance
+        EXPECT_LT(check_form_factors(fk).closure_max_error, 1e-6) << "scale " << k;
+    }
+}
+
+}  // namespace radiosa
