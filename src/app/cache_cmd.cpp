@@ -1,9 +1,10 @@
 #include "app/cache_cmd.h"
 
 #include <algorithm>
+#include <cctype>
+#include <string_view>
 #include <chrono>
 #include <cstdio>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -20,11 +21,18 @@ enum class Kind { Matrix, Leftover, Other };
 // "<32 hex>.rff" is a cache file; "<32 hex>.tmp<pid>.rff" a temporary left by a killed run;
 // "<32 hex>.lock" a lock file.
 Kind classify(const fs::path& p) {
-    static const std::regex matrix("[0-9a-f]{32}\\.rff");
-    static const std::regex leftover("[0-9a-f]{32}(\\.tmp[0-9]+\\.rff|\\.lock)");
     const std::string name = p.filename().string();
-    if (std::regex_match(name, matrix)) return Kind::Matrix;
-    if (std::regex_match(name, leftover)) return Kind::Leftover;
+    auto all_of = [](std::string_view s, auto pred) {
+        return std::all_of(s.begin(), s.end(), [&](char c) { return pred(static_cast<unsigned char>(c)); });
+    };
+    const auto hex = [](unsigned char c) { return std::isdigit(c) || (c >= 'a' && c <= 'f'); };
+    if (name.size() < 32 || !all_of(std::string_view(name).substr(0, 32), hex)) return Kind::Other;
+    const std::string_view rest = std::string_view(name).substr(32);
+    if (rest == ".rff") return Kind::Matrix;
+    if (rest == ".lock") return Kind::Leftover;
+    if (rest.starts_with(".tmp") && rest.ends_with(".rff") && rest.size() > 8 &&
+        all_of(rest.substr(4, rest.size() - 8), [](unsigned char c) { return std::isdigit(c) != 0; }))
+        return Kind::Leftover;
     return Kind::Other;
 }
 

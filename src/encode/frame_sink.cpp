@@ -1,8 +1,8 @@
 #include "encode/frame_sink.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <regex>
 
 #include "encode/video_writer.h"
 #include "render/image_io.h"
@@ -58,8 +58,14 @@ void check_sequence_output(const std::string& path, int width, int height) {
         check_video_output(path, width, height);
         return;
     }
-    static const std::regex one_number("[^%]*%0?[0-9]?d[^%]*");
-    if (path.size() >= 4000 || !std::regex_match(path, one_number))
+    // Exactly one conversion, %d or %0Nd with one digit N, and no other '%'.
+    const std::size_t at = path.find('%');
+    bool ok = at != std::string::npos && path.size() < 4000;
+    std::size_t end = at + 1;
+    if (ok && path[end] == '0') ++end;
+    if (ok && end < path.size() && std::isdigit(static_cast<unsigned char>(path[end]))) ++end;
+    ok = ok && end < path.size() && path[end] == 'd' && path.find('%', end) == std::string::npos;
+    if (!ok)
         throw Error(path + ": a sequence is written as a video (.mp4) or as numbered images with one %d or %04d "
                            "in the name, e.g. out/frames/%04d.png");
     check_image_output(frame_path(path, 0));
