@@ -146,3 +146,24 @@ TEST(Cli, NoSteadyStateIsRefusedAndNearSingularWarns) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+TEST(Cli, SceneWithoutEmissionRendersBlackWithoutASolve) {
+    const fs::path d = fresh_dir("radiosa_cli_dark");
+    std::ofstream(d / "dark.yaml") << "closed: false\nsurfaces:\n  - name: floor\n    type: quad\n"
+                                      "    corners: [[-2, -2, -1], [2, -2, -1], [2, 2, -1], [-2, 2, -1]]\n"
+                                      "    patches: [2, 2]\n    reflectance: [0.5, 0.5, 0.5]\n";
+    const CliRun r = run({"render", (d / "dark.yaml").string(), "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml", "-o",
+                          (d / "d.exr").string(), "--report", (d / "r.json").string(), "--width", "16", "--height",
+                          "16", "--no-cache", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = read_json(d / "r.json");
+    EXPECT_EQ(j["solve"]["factorisations"], 0);
+    EXPECT_EQ(j["solve"]["skipped"], "no emission: the image is black");
+    const Image img = read_image((d / "d.exr").string());
+    for (float v : img.rgb) EXPECT_EQ(v, 0.0f);
+    fs::remove_all(d);
+}
+
+}  // namespace radiosa

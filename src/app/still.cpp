@@ -3,6 +3,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -59,16 +60,21 @@ StillReport run_still(const StillJob& job) {
 
     clock = Stopwatch();
     const Materials mat = patch_materials(scene, geometry);
-    const RadiositySolver solver(ff.F, mat.rho, job.solver);
-    if (const std::string w = check_steady_state(solver, mat.rho, mat.E, scene.closed, job.scene_path); !w.empty())
-        job.warn(w);
-    for (int c = 0; c < 3; ++c) {
-        r.spectral_radius = std::max(r.spectral_radius, solver.stability(c).spectral_hi);
-        r.condition_estimate = std::max(r.condition_estimate, solver.stability(c).condition);
+    // A scene with no emission is black: nothing to factorise or solve.
+    r.dark = std::all_of(mat.E.begin(), mat.E.end(), [](const Rgb& e) { return e == Rgb(0.0); });
+    std::vector<Rgb> B(mat.E.size(), Rgb(0.0));
+    if (!r.dark) {
+        const RadiositySolver solver(ff.F, mat.rho, job.solver);
+        if (const std::string w = check_steady_state(solver, mat.rho, mat.E, scene.closed, job.scene_path); !w.empty())
+            job.warn(w);
+        for (int c = 0; c < 3; ++c) {
+            r.spectral_radius = std::max(r.spectral_radius, solver.stability(c).spectral_hi);
+            r.condition_estimate = std::max(r.condition_estimate, solver.stability(c).condition);
+        }
+        B = solver.solve(mat.E);
+        r.factorisations = solver.factorisations();
     }
-    const std::vector<Rgb> B = solver.solve(mat.E);
     r.times.solve_s = clock.seconds();
-    r.factorisations = solver.factorisations();
     r.solve = diagnose_solution(ff.F, ff.area, mat, B);
 
     clock = Stopwatch();
@@ -111,6 +117,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
     j["form_factor_cache"] = cache_outcome_json(r.cache);
     j["solve"] = {{"method", solver_method_name(job.solver)},
+                  {"skipped", r.dark ? json("no emission: the image is black") : json(nullptr)},
                   {"spectral_radius", r.spectral_radius},
                   {"condition_estimate", r.condition_estimate > 0 ? json(r.condition_estimate) : json(nullptr)},
                   {"factorisations", r.factorisations},
