@@ -144,3 +144,58 @@ TEST(HardCases, SeedSceneClosesWithinTheDefaultTolerance) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+namespace {
+const std::string kBall = "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
+                          "    reflectance: [0, 0, 0]\n";
+// Sum over j in [j0, j1) of F_ij and of its estimates.
+std::pair<double, double> row_part(const FormFactors& ff, int i, int j0, int j1) {
+    double f = 0.0, e = 0.0;
+    for (int j = j0; j < j1; ++j) {
+        f += ff.F(i, j);
+        e += ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
+    }
+    return {f, e};
+}
+}  // namespace
+
+TEST(HardCases, CubeFaceToCentredSphereIsPiOver24) {
+    // Side 4, radius 1: by symmetry each face sends (4 pi / 6) / 16 = pi / 24 to the sphere.
+    std::string faces;
+    faces += test::quad("floor", "[[-2, -2, -2], [2, -2, -2], [2, 2, -2], [-2, 2, -2]]");
+    faces += test::quad("ceiling", "[[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]]");
+    faces += test::quad("x0", "[[-2, -2, -2], [-2, 2, -2], [-2, 2, 2], [-2, -2, 2]]");
+    faces += test::quad("x1", "[[2, -2, -2], [2, -2, 2], [2, 2, 2], [2, 2, -2]]");
+    faces += test::quad("y0", "[[-2, -2, -2], [-2, -2, 2], [2, -2, 2], [2, -2, -2]]");
+    faces += test::quad("y1", "[[-2, 2, -2], [2, 2, -2], [2, 2, 2], [-2, 2, 2]]");
+    for (double tol : {1e-4, 1e-7}) {
+        const FormFactors ff = adaptive(scene_of(faces + kBall, true), tol);
+        expect_sane(ff, tol);
+        for (int f = 0; f < 6; ++f) {
+            const auto [sum, est] = row_part(ff, f, 6, ff.F.n);
+            EXPECT_LE(std::abs(sum - kPi / 24), 32 * tol) << "face " << f;
+            EXPECT_LE(std::abs(sum - kPi / 24), est + 1e-14) << "face " << f;
+        }
+    }
+}
+
+TEST(HardCases, ConcentricSpheresShellSeesAQuarterInside) {
+    // Every point of the shell (R = 2) sees the inner sphere (r = 1) with F = (r/R)^2; the inner
+    // sphere sends everything to the shell. Curved receivers with an occluder: the numeric path.
+    const Scene s = scene_of(kBall + "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 2\n"
+                                     "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                             true);
+    const double tol = 1e-4;
+    const FormFactors ff = adaptive(s, tol);
+    expect_sane(ff, tol);
+    for (int i = 0; i < 64; ++i) {
+        const auto [to_inner, est] = row_part(ff, i, 0, 32);
+        const double exact = i < 32 ? 0.0 : 0.25;
+        EXPECT_LE(std::abs(to_inner - exact), 32 * tol) << i;
+        EXPECT_LE(std::abs(to_inner - exact), est + 1e-14) << i;
+    }
+}
+
+}  // namespace radiosa
