@@ -79,8 +79,8 @@ void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool*
     add_form_factor_options(cmd, &job->ff_tolerance, &job->gauss_points, &job->visibility, &job->cache);
     cmd->add_option_function<std::string>(
            "--solver", [job](const std::string& s) { job->solver = parse_solver_method(s); },
-           "lu (default) or gauss-jordan (the 1991 paper's method)")
-        ->check(CLI::IsMember({"lu", "gauss-jordan"}));
+           "lu (default), gauss-jordan (the 1991 paper's method), or iterative: jacobi, gauss-seidel, southwell")
+        ->check(CLI::IsMember({"lu", "gauss-jordan", "jacobi", "gauss-seidel", "southwell"}));
     cmd->add_option("--exposure", job->exposure, "Exposure in stops for 8-bit outputs (default 0)")
         ->check(CLI::Range(-200.0, 200.0));
     cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");

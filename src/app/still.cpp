@@ -73,6 +73,7 @@ StillReport run_still(const StillJob& job) {
         }
         B = solver.solve(mat.E);
         r.factorisations = solver.factorisations();
+        r.iterations = solver.last_iterations();
     }
     r.times.solve_s = clock.seconds();
     r.solve = diagnose_solution(ff.F, ff.area, mat, B);
@@ -121,6 +122,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
                   {"spectral_radius", r.spectral_radius},
                   {"condition_estimate", r.condition_estimate > 0 ? json(r.condition_estimate) : json(nullptr)},
                   {"factorisations", r.factorisations},
+                  {"iterations", r.iterations},
                   {"residual", r.solve.residual},
                   {"emitted_power", {r.solve.emitted_power.r, r.solve.emitted_power.g, r.solve.emitted_power.b}},
                   {"absorbed_power", {r.solve.absorbed_power.r, r.solve.absorbed_power.g, r.solve.absorbed_power.b}}};

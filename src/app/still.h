@@ -45,7 +45,8 @@ struct StillReport {
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]"
     int factorisations = 0;
-    bool dark = false;                // no emission anywhere: no solve
+    bool dark = false;
+    int iterations = 0;               // iterative solvers: sweeps needed                // no emission anywhere: no solve
     double spectral_radius = 0.0;     // upper bound, max over channels, of the spectral radius of rho F
     double condition_estimate = 0.0;  // max over channels of the LU's condition estimate (0: none)
     SolveDiagnostics solve;

@@ -1,6 +1,7 @@
 #include "solve/solver.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -34,10 +35,98 @@ Materials patch_materials(const Scene& scene, const SceneGeometry& geo) {
 SolverMethod parse_solver_method(const std::string& name) {
     if (name == "lu") return SolverMethod::LU;
     if (name == "gauss-jordan") return SolverMethod::GaussJordan;
-    throw Error("unknown solver '" + name + "' (known: lu, gauss-jordan)");
+    if (name == "jacobi") return SolverMethod::Jacobi;
+    if (name == "gauss-seidel") return SolverMethod::GaussSeidel;
+    if (name == "southwell") return SolverMethod::Southwell;
+    throw Error("unknown solver '" + name + "' (known: lu, gauss-jordan, jacobi, gauss-seidel, southwell)");
 }
 
-const char* solver_method_name(SolverMethod m) { return m == SolverMethod::LU ? "lu" : "gauss-jordan"; }
+const char* solver_method_name(SolverMethod m) {
+    switch (m) {
+        case SolverMethod::LU: return "lu";
+        case SolverMethod::GaussJordan: return "gauss-jordan";
+        case SolverMethod::Jacobi: return "jacobi";
+        case SolverMethod::GaussSeidel: return "gauss-seidel";
+        case SolverMethod::Southwell: return "southwell";
+    }
+    return "?";
+}
+
+namespace {
+
+bool iterative(SolverMethod m) {
+    return m == SolverMethod::Jacobi || m == SolverMethod::GaussSeidel || m == SolverMethod::Southwell;
+}
+
+// Solves (I - diag(rho) F) x = e iteratively; returns sweeps used or throws at the cap.
+int solve_iteratively(SolverMethod method, const DenseMatrix& F, const std::vector<double>& rho,
+                      const std::vector<double>& e, std::vector<double>* x_out) {
+    const int n = F.n;
+    double e2 = 0.0;
+    for (double v : e) e2 += v * v;
+    const double target = kIterativeTolerance * std::sqrt(e2);
+    std::vector<double>& x = *x_out;
+    x = e;
+    // The cap bounds the work (~4e9 multiply-adds), so a slow case fails instead of hanging.
+    const int max_sweeps = static_cast<int>(std::clamp(4e9 / (static_cast<double>(n) * n), 100.0,
+                                                       static_cast<double>(kMaxSweeps)));
+    // r = e - (I - rho F) x
+    std::vector<double> r(n);
+    auto residual = [&] {
+        double r2 = 0.0;
+        for (int i = 0; i < n; ++i) {
+            double h = 0.0;
+            for (int j = 0; j < n; ++j) h += F(i, j) * x[j];
+            r[i] = e[i] - x[i] + rho[i] * h;
+            r2 += r[i] * r[i];
+        }
+        return std::sqrt(r2);
+    };
+    if (method == SolverMethod::Southwell) {
+        double norm = residual();
+        const long long cap = static_cast<long long>(max_sweeps) * n;
+        long long steps = 0;
+        while (norm > target) {
+            if (++steps > cap) break;
+            int k = 0;
+            for (int i = 1; i < n; ++i)
+                if (std::abs(r[i]) > std::abs(r[k])) k = i;
+            const double shot = r[k];  // relax patch k: its residual is shot to every patch
+            x[k] += shot;
+            for (int j = 0; j < n; ++j) r[j] += rho[j] * F(j, k) * shot;
+            r[k] -= shot;
+            if (steps % n == 0) norm = residual();  // recompute now and then against drift
+            else {
+                double r2 = 0.0;
+                for (double v : r) r2 += v * v;
+                norm = std::sqrt(r2);
+            }
+        }
+        if (norm > target)
+            throw Error("southwell did not converge: residual " + std::to_string(norm / std::sqrt(e2)) + " after " +
+                        std::to_string(steps) + " steps (spectral radius of rho F too close to 1; use --solver lu)");
+        return static_cast<int>(steps / std::max(1, n));
+    }
+    // Jacobi reads the previous sweep's values, Gauss-Seidel the newest; both solve row i for
+    // x_i, diagonal (a concave patch seeing itself) included.
+    std::vector<double> next(n);
+    for (int sweep = 1; sweep <= max_sweeps; ++sweep) {
+        std::vector<double>& out = method == SolverMethod::Jacobi ? next : x;
+        for (int i = 0; i < n; ++i) {
+            double h = 0.0;
+            for (int j = 0; j < n; ++j)
+                if (j != i) h += F(i, j) * x[j];
+            out[i] = (e[i] + rho[i] * h) / (1.0 - rho[i] * F(i, i));
+        }
+        if (method == SolverMethod::Jacobi) x.swap(next);
+        if (residual() <= target) return sweep;
+    }
+    throw Error(std::string(solver_method_name(method)) + " did not converge: residual " +
+                std::to_string(residual() / std::sqrt(e2)) + " after " + std::to_string(max_sweeps) +
+                " sweeps (spectral radius of rho F too close to 1; use --solver lu)");
+}
+
+}  // namespace
 
 namespace {
 
@@ -87,6 +176,8 @@ struct RadiositySolver::Impl {
     std::vector<RowMatrix> systems;                  // one per distinct channel (Gauss-Jordan)
     int slot[3] = {0, 0, 0};
     std::vector<RadiositySolver::Stability> stability;  // per distinct channel
+    const DenseMatrix* F = nullptr;                      // iterative methods read it
+    std::vector<std::vector<double>> rho_channel;       // per distinct channel (iterative)
     double factorise_s = 0.0;
 };
 
@@ -130,6 +221,7 @@ RadiositySolver::RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& r
     : m(std::make_unique<Impl>()) {
     const Stopwatch clock;
     m->method = method;
+    m->F = &F;
     int distinct = 0;
     for (int c = 0; c < 3; ++c) {
         m->channel_owner[c] = c;
@@ -152,8 +244,12 @@ RadiositySolver::RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& r
             m->lu.emplace_back(M);
             const double rc = m->lu.back().rcond();
             st.condition = rc > 0.0 ? 1.0 / rc : std::numeric_limits<double>::infinity();
-        } else {
+        } else if (method == SolverMethod::GaussJordan) {
             m->systems.push_back(std::move(M));
+        } else {
+            std::vector<double> r(rho.size());
+            for (std::size_t i = 0; i < rho.size(); ++i) r[i] = rho[i][c];
+            m->rho_channel.push_back(std::move(r));
         }
         m->stability.push_back(st);
     }
@@ -163,6 +259,7 @@ RadiositySolver::RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& r
 RadiositySolver::~RadiositySolver() = default;
 
 int RadiositySolver::factorisations() const {
+    if (iterative(m->method)) return 0;  // nothing is factorised
     return static_cast<int>(m->method == SolverMethod::LU ? m->lu.size() : m->systems.size());
 }
 
@@ -206,7 +303,7 @@ std::string check_steady_state(const RadiositySolver& solver, const std::vector<
 std::vector<Rgb> RadiositySolver::solve(const std::vector<Rgb>& E) const {
     const int n = static_cast<int>(E.size());
     std::vector<Rgb> B(n, Rgb(0.0));
-    int solved = 0;
+    int solved = 0, iterations = 0;
     for (int c = 0; c < 3; ++c) {
         // A channel with the same reflectance and emission as an earlier one has its answer.
         int same = -1;
@@ -226,12 +323,20 @@ std::vector<Rgb> RadiositySolver::solve(const std::vector<Rgb>& E) const {
             x = Eigen::VectorXd::Zero(n);  // no light in this channel
         } else {
             ++solved;
-            if (m->method == SolverMethod::LU) x = m->lu[m->slot[c]].solve(e);
-            else x = gauss_jordan(m->systems[m->slot[c]], e);
+            if (m->method == SolverMethod::LU) {
+                x = m->lu[m->slot[c]].solve(e);
+            } else if (m->method == SolverMethod::GaussJordan) {
+                x = gauss_jordan(m->systems[m->slot[c]], e);
+            } else {
+                std::vector<double> ev(e.data(), e.data() + n), xv;
+                iterations = std::max(iterations, solve_iteratively(m->method, *m->F, m->rho_channel[m->slot[c]], ev, &xv));
+                x = Eigen::Map<Eigen::VectorXd>(xv.data(), n);
+            }
         }
         for (int i = 0; i < n; ++i) B[i][c] = x[i];
     }
     m_last_channel_solves = solved;
+    m_last_iterations = iterations;
     return B;
 }
 

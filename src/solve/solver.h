@@ -22,9 +22,17 @@ Materials patch_materials(const Scene& scene, const SceneGeometry& geometry);
 
 enum class SolverMethod {
     LU,          // Eigen partial-pivoting LU; factorisation kept, a new E costs a substitution
-    GaussJordan  // the 1991 paper's method, a full elimination per channel and per E
+    GaussJordan,  // the 1991 paper's method, a full elimination per channel and per E
+    // Iterative, no factorisation: sweep until the residual ||(I - rho F) B - E|| / ||E|| is
+    // below kIterativeTolerance, or fail (Error) at the iteration cap: never a half-converged
+    // answer. They read the matrix F given to the constructor, which must outlive the solver.
+    Jacobi,
+    GaussSeidel,
+    Southwell  // relax the patch with the largest residual each step (progressive refinement)
 };
-SolverMethod parse_solver_method(const std::string& name);  // "lu" | "gauss-jordan"
+inline constexpr double kIterativeTolerance = 1e-12;
+inline constexpr int kMaxSweeps = 100000;  // sweep cap (lower for large N: ~4e9 multiply-adds); Southwell: x N steps
+SolverMethod parse_solver_method(const std::string& name);  // lu | gauss-jordan | jacobi | gauss-seidel | southwell
 const char* solver_method_name(SolverMethod m);
 
 class RadiositySolver {
@@ -49,12 +57,15 @@ public:
     // Substitutions (or eliminations) the last solve() ran: channels with identical
     // reflectance and emission, and dark channels, need none of their own.
     int last_channel_solves() const { return m_last_channel_solves; }
+    // Sweeps (Southwell: relaxation steps / N) the last solve() needed, max over channels (0 for direct methods).
+    int last_iterations() const { return m_last_iterations; }
     double factorise_seconds() const;
 
 private:
     struct Impl;
     std::unique_ptr<Impl> m;
     mutable int m_last_channel_solves = 0;
+    mutable int m_last_iterations = 0;
 };
 
 // Refuses (throws Error naming `scene_file`) a system without a steady state — reflectance 1

@@ -124,4 +124,46 @@ TEST(Extreme, SceneScaledBy1em6And1e6HasTheSameFormFactors) {
     }
 }
 
+TEST(Iterative, AllMethodsAgreeWithLuOnTheSeedScene) {
+    const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const SceneGeometry g(s);
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-4));
+    const Materials m = patch_materials(s, g);
+    const std::vector<Rgb> lu = RadiositySolver(ff.F, m.rho, SolverMethod::LU).solve(m.E);
+    for (SolverMethod method : {SolverMethod::Jacobi, SolverMethod::GaussSeidel, SolverMethod::Southwell}) {
+        SCOPED_TRACE(solver_method_name(method));
+        const RadiositySolver solver(ff.F, m.rho, method);
+        const std::vector<Rgb> B = solver.solve(m.E);
+        EXPECT_EQ(solver.factorisations(), 0);
+        EXPECT_GT(solver.last_iterations(), 0);
+        for (std::size_t i = 0; i < B.size(); ++i)
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(B[i][c], lu[i][c], 1e-10 * (1.0 + lu[i][c]));
+    }
+}
+
+TEST(Iterative, NonConvergenceIsAnErrorNotAHalfAnswer) {
+    // rho = 0.999999: Jacobi would need ~3e7 sweeps; the cap stops it with a clear message.
+    const Scene s = furnace(0.999999);
+    const SceneGeometry g(s);
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-8));
+    const Materials m = patch_materials(s, g);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::Jacobi);
+    try {
+        solver.solve(m.E);
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("jacobi did not converge: residual ", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("after 100000 sweeps"), std::string::npos) << e.what();
+    }
+    // The furnace at rho = 0.9 converges to the exact answer.
+    const Scene s9 = furnace(0.9);
+    const SceneGeometry g9(s9);
+    const FormFactors f9 = compute_form_factors(g9, FormFactorOptions::adaptive(1e-10));
+    const Materials m9 = patch_materials(s9, g9);
+    for (SolverMethod method : {SolverMethod::Jacobi, SolverMethod::GaussSeidel, SolverMethod::Southwell}) {
+        const RadiositySolver solver9(f9.F, m9.rho, method);
+        EXPECT_LT(max_rel_error(solver9.solve(m9.E), 10.0), 1e-10) << solver_method_name(method);
+    }
+}
+
 }  // namespace radiosa
