@@ -118,7 +118,7 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
         job.height = 40;
         job.samples = 2;
         job.threads = threads;
-        job.cache.enabled = false;
+        job.form_factors.cache.enabled = false;
         std::vector<Image> frames;
         job.on_frame = [&](int, const Image& im) { frames.push_back(im); };
         run_sequence_job(job);

@@ -28,12 +28,13 @@ void add_cache_dir_option(CLI::App* cmd, CacheSettings* cache) {
                     "Form-factor cache directory (default: $RADIOSA_CACHE_DIR, else out/cache)");
 }
 
-void add_form_factor_options(CLI::App* cmd, std::optional<double>* tolerance, std::optional<int>* gauss_points,
-                             std::optional<bool>* visibility, CacheSettings* cache) {
-    auto* p = cmd->add_option("--gauss-points,-p", *gauss_points,
+void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
+    CacheSettings* cache = &req->cache;
+    std::optional<bool>* visibility = &req->visibility;
+    auto* p = cmd->add_option("--gauss-points,-p", req->gauss_points,
                               "The paper's fixed Gauss-Legendre rule, P points per parameter (no error control)")
                   ->check(CLI::Range(1, 64));
-    cmd->add_option("--ff-tolerance", *tolerance,
+    cmd->add_option("--ff-tolerance", req->tolerance,
                     "Error-controlled form factors: absolute tolerance on each F_ij (default 1e-6)")
         ->check(CLI::Range(1e-12, 0.1))
         ->excludes(p);
@@ -76,7 +77,7 @@ void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool*
     cmd->add_option("--samples", job->render.samples, "Sub-pixel rays per axis (S x S per pixel)")
         ->check(CLI::Range(1, 16));
     cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-    add_form_factor_options(cmd, &job->ff_tolerance, &job->gauss_points, &job->visibility, &job->cache);
+    add_form_factor_options(cmd, &job->form_factors);
     cmd->add_option_function<std::string>(
            "--solver", [job](const std::string& s) { job->solver = parse_solver_method(s); },
            "lu (default), gauss-jordan (the 1991 paper's method), or iterative: jacobi, gauss-seidel, southwell")
@@ -93,7 +94,7 @@ void add_formfactors_options(CLI::App* cmd, FormFactorsJob* job, bool* quiet) {
                     "patch table beside it as <stem>.patches.csv)");
     cmd->add_option("--report", job->report_path, "Write the JSON run report here");
     cmd->add_option("--threads", job->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-    add_form_factor_options(cmd, &job->ff_tolerance, &job->gauss_points, &job->visibility, &job->cache);
+    add_form_factor_options(cmd, &job->form_factors);
     cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");
 }
 
@@ -206,16 +207,13 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             if (render->count("--width")) sj.width = job.render.width;
             if (render->count("--height")) sj.height = job.render.height;
             if (render->count("--samples")) sj.samples = job.render.samples;
-            sj.gauss_points = job.gauss_points;
-            sj.ff_tolerance = job.ff_tolerance;
-            sj.visibility = job.visibility;
+            sj.form_factors = job.form_factors;
             sj.solver = job.solver;
             sj.exposure = job.exposure;
             sj.crf = so.crf;
             sj.palette = so.palette;
             sj.quantiser = so.quantiser;
             sj.threads = job.threads;
-            sj.cache = job.cache;
             sj.warn = warn;
             if (!quiet && &err == &std::cerr && ::isatty(2)) sj.progress = &err;
             const SequenceReport report = run_sequence_job(sj);

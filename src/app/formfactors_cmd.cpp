@@ -28,10 +28,10 @@ std::string run_formfactors(const FormFactorsJob& job) {
     const double load_s = clock.seconds();
 
     const FormFactorOptions ffo =
-        resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
+        job.form_factors.options_for(scene);
     clock = Stopwatch();
     CacheOutcome cache;
-    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.cache, job.warn, &cache);
+    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.form_factors.cache, job.warn, &cache);
     const double ff_s = clock.seconds();
     const FormFactorChecks checks = check_form_factors(ff);
 
@@ -54,7 +54,7 @@ std::string run_formfactors(const FormFactorsJob& job) {
         j["closure_worst_patch"] = scene.closed ? json(worst) : json(nullptr);
         j["reciprocity_max_error"] = checks.reciprocity_max_error;
         j["min_entry"] = checks.min_entry;
-        add_form_factor_checks(j, checks, scene.closed);
+        add_form_factor_checks(j, checks);
         j["form_factor_stats"] = form_factor_stats_json(ff.stats);
         j["form_factor_cache"] = cache_outcome_json(cache);
         j["timings"] = {{"load_s", load_s}, {"form_factors_s", ff_s}, {"export_s", export_s},

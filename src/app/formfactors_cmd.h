@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "app/form_factor_request.h"
 #include "cache/cache_file.h"
 
 namespace radiosa {
@@ -12,11 +13,8 @@ struct FormFactorsJob {
     std::string scene_path;
     std::optional<std::string> matrix_path;  // .csv or .npy
     std::optional<std::string> report_path;
-    std::optional<double> ff_tolerance;  // --ff-tolerance
-    std::optional<int> gauss_points;
-    std::optional<bool> visibility;
+    FormFactorRequest form_factors;
     int threads = 0;
-    CacheSettings cache;
     WarningSink warn = [](const std::string&) {};
 };
 

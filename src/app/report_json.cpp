@@ -40,11 +40,11 @@ void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
     j["visibility"] = o.visibility;
 }
 
-void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c, bool closed) {
+void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c) {
     j["reciprocity_abs_error"] = c.reciprocity_abs_error;
     j["reciprocity_vs_estimate"] = c.reciprocity_vs_estimate;
     j["max_error_estimate"] = c.max_error_estimate;
-    j["max_row_error_estimate"] = closed ? nlohmann::json(c.max_row_error_estimate) : nlohmann::json(c.max_row_error_estimate);
+    j["max_row_error_estimate"] = c.max_row_error_estimate;
 }
 
 std::string cache_outcome_summary(const CacheOutcome& c) {

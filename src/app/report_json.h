@@ -17,6 +17,6 @@ nlohmann::json form_factor_stats_json(const FormFactorStats& s);
 // one that does not apply is null) and visibility.
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);
 // Adds max_error_estimate, max_row_error_estimate, reciprocity_abs_error, reciprocity_vs_estimate.
-void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c, bool closed);
+void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c);
 
 }  // namespace radiosa

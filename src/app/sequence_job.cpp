@@ -184,12 +184,10 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
 
     // Form factors: once for the whole sequence.
     const FormFactorOptions ffo =
-        resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
+        job.form_factors.options_for(scene);
     r.ff_options = ffo;
-    r.gauss_points = ffo.gauss_points;
-    r.visibility = ffo.visibility;
     clock = Stopwatch();
-    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.cache, job.warn, &r.cache);
+    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.form_factors.cache, job.warn, &r.cache);
     frames[0].form_factors_s = clock.seconds();
     frames[0].form_factors = r.cache.status == CacheStatus::Hit ? "cached" : "computed";
     r.form_factor_stats = ff.stats;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/form_factor_request.h"
 #include "cache/cache_file.h"
 #include "encode/palette.h"
 #include "render/raycast.h"
@@ -22,16 +23,13 @@ struct SequenceJob {
     std::optional<std::string> report_path;
     // Unset: the sequence's `image:` block, else the RenderOptions defaults.
     std::optional<int> width, height, samples;
-    std::optional<double> ff_tolerance;  // --ff-tolerance
-    std::optional<int> gauss_points;
-    std::optional<bool> visibility;
+    FormFactorRequest form_factors;
     SolverMethod solver = SolverMethod::LU;
     double exposure = 0.0;
     int crf = 18;
     int palette = 0;  // > 0: one palette of this many colours for all frames (.gif / indexed .png)
     Quantiser quantiser = Quantiser::MedianCut;
     int threads = 0;
-    CacheSettings cache;
     WarningSink warn = [](const std::string&) {};
     std::ostream* progress = nullptr;  // a terminal: progress bar with rate and ETA
     std::function<void(int, const Image&)> on_frame;  // sees every frame (tests)
@@ -48,9 +46,7 @@ struct SequenceReport {
     RenderOptions render;  // as resolved
     int patches = 0, surfaces = 0, threads = 0;
     double fps = 0;
-    int gauss_points = 0;
     FormFactorOptions ff_options;
-    bool visibility = true;
     CacheOutcome cache;
     FormFactorStats form_factor_stats;
     int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0, copies = 0;

@@ -43,12 +43,10 @@ StillReport run_still(const StillJob& job) {
     r.closed = scene.closed;
 
     const FormFactorOptions ffo =
-        resolve_form_factor_options(scene.form_factors, job.ff_tolerance, job.gauss_points, job.visibility);
+        job.form_factors.options_for(scene);
     r.ff_options = ffo;
-    r.gauss_points = ffo.gauss_points;
-    r.visibility = ffo.visibility;
     clock = Stopwatch();
-    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.cache, job.warn, &r.cache);
+    const FormFactors ff = obtain_form_factors(scene, geometry, ffo, job.form_factors.cache, job.warn, &r.cache);
     r.times.form_factors_s = clock.seconds();
     r.form_factor_stats = ff.stats;
     r.checks = check_form_factors(ff);
@@ -114,7 +112,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["closure_worst_patch"] = r.closed ? json(r.closure_worst_patch) : json(nullptr);
     j["reciprocity_max_error"] = r.checks.reciprocity_max_error;
     j["energy_balance_error"] = r.closed ? json(r.solve.energy_balance_error) : json(nullptr);
-    add_form_factor_checks(j, r.checks, r.closed);
+    add_form_factor_checks(j, r.checks);
     j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
     j["form_factor_cache"] = cache_outcome_json(r.cache);
     j["solve"] = {{"method", solver_method_name(job.solver)},

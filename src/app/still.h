@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "app/form_factor_request.h"
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
 #include "render/raycast.h"
@@ -17,13 +18,10 @@ struct StillJob {
     std::vector<std::string> outputs;  // image files; format from each extension
     std::optional<std::string> report_path;
     RenderOptions render;
-    std::optional<double> ff_tolerance;  // --ff-tolerance
-    std::optional<int> gauss_points;   // overrides the scene's form_factors.gauss_points
-    std::optional<bool> visibility;    // overrides the scene's form_factors.visibility
+    FormFactorRequest form_factors;
     SolverMethod solver = SolverMethod::LU;
     double exposure = 0.0;             // stops; PNG value = radiosity * 2^exposure
     int threads = 0;                   // 0 = all cores
-    CacheSettings cache;
     WarningSink warn = [](const std::string&) {};  // one-line warnings (damaged cache, ...)
 };
 
@@ -37,8 +35,6 @@ struct StillReport {
     int patches = 0;
     bool closed = true;
     FormFactorOptions ff_options;
-    int gauss_points = 0;
-    bool visibility = true;
     int threads = 0;
     FormFactorStats form_factor_stats;  // of the computation, stored with a cached matrix
     CacheOutcome cache;

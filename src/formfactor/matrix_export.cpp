@@ -1,7 +1,6 @@
 #include "formfactor/matrix_export.h"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include "cache/bytes.h"
@@ -42,17 +41,6 @@ std::string patch_table_csv(const SceneGeometry& g, const FormFactors& ff, bool 
         s << "\n";
     }
     return s.str();
-}
-
-void write_binary(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path(), std::ios::binary);
-        out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-        out.flush();
-        if (!out) throw Error(path.string() + ": write failed (disk full?)");
-    }
-    file.commit();
 }
 
 }  // namespace
@@ -98,7 +86,7 @@ void write_matrix(const fs::path& path, const SceneGeometry& g, const FormFactor
     w.u8(static_cast<std::uint8_t>(header.size() >> 8));
     w.raw(header.data(), header.size());
     w.f64_array(ff.F.data.data(), ff.F.data.size());
-    write_binary(path, w.bytes());
+    write_text_file(path, std::string(w.bytes().begin(), w.bytes().end()));  // binary-safe, atomic
     write_text_file(npy_patch_table_path(path), patch_table_csv(g, ff, false));
 }
 

@@ -1,0 +1,24 @@
+#pragma once
+// What a command asks of the form-factor stage: the command line's overrides of the scene's
+// form_factors block, and where the cache is. Shared by render (stills and sequences) and
+// formfactors.
+#include <optional>
+
+#include "cache/cache_file.h"
+#include "formfactor/form_factor.h"
+#include "scene/scene.h"
+
+namespace radiosa {
+
+struct FormFactorRequest {
+    std::optional<double> tolerance;   // --ff-tolerance
+    std::optional<int> gauss_points;   // --gauss-points: the paper's fixed rule
+    std::optional<bool> visibility;    // --no-visibility
+    CacheSettings cache;               // --cache-dir, --no-cache
+
+    FormFactorOptions options_for(const Scene& scene) const {
+        return resolve_form_factor_options(scene.form_factors, tolerance, gauss_points, visibility);
+    }
+};
+
+}  // namespace radiosa
