@@ -152,6 +152,11 @@ TEST(Sequence, BadFilesNameTheLineAndTheFix) {
               "s.yaml:5:16: camera key 2: time_s 1 must be later than the previous key's time (and hold)");
     EXPECT_EQ(error_of("fps: 10\nduration_s: 100000\n" + std::string(kOrbitKeys), &scene),
               "s.yaml:1:1: the sequence has 1000000 frames; the limit is 100000 (lower fps or duration_s)");
+    // Found by the fuzzer: a key time of 5.6e63 s (the frame count overflowed the integer it was
+    // printed as, undefined behaviour).
+    EXPECT_EQ(error_of("fps: 1\ncamera:\n  keys:\n    - {time_s: 5555555555555555555555555555555555555555555555555555555555555555, "
+                       "position: [5, 0, 0]}\n", &scene),
+              "s.yaml:1:1: the sequence has 5.56e+63 frames; the limit is 100000 (lower fps or duration_s)");
     EXPECT_EQ(error_of("fps: 10\ncamera:\n  keys: []\n", &scene),
               "s.yaml:3:9: camera keys must be a non-empty list of {time_s, distance, theta_deg, phi_deg | position, ...}");
     // A sequence where a camera file is expected, and the other way round.

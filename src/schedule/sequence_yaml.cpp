@@ -1,6 +1,7 @@
 // Reads sequence files. The format is documented in README.md ("Sequence files").
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "scene/camera_yaml.h"
@@ -176,9 +177,13 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
         if (!(duration > 0.0)) throw Error(loc_of(*d, filename), "duration_s must be > 0, got " + d->Scalar());
     }
     const double frames = std::round(duration * seq.fps);
-    if (frames > kMaxFrames)
-        throw Error(top.loc(), "the sequence has " + std::to_string(static_cast<long long>(frames)) +
-                                   " frames; the limit is " + std::to_string(kMaxFrames) + " (lower fps or duration_s)");
+    if (frames > kMaxFrames) {
+        // The count can be far beyond any integer type (a time of 1e60 s): print it as a double.
+        char count[32];
+        std::snprintf(count, sizeof count, frames < 1e15 ? "%.0f" : "%.3g", frames);
+        throw Error(top.loc(), std::string("the sequence has ") + count + " frames; the limit is " +
+                                   std::to_string(kMaxFrames) + " (lower fps or duration_s)");
+    }
     seq.frames = std::max(1, static_cast<int>(frames));
     top.reject_unknown_keys("scene, fps, duration_s, image, camera, events");
     return seq;
