@@ -339,12 +339,17 @@ public:
         return true;
     }
 
-    // A_i F_ij with the inner integral in closed form; error estimate on the same scale.
+    // A_i F_ij with the inner integral in closed form; error estimate on the same scale. The
+    // target is tol x min(A_i, A_j), not tol x A_i: the energy two patches exchange is then
+    // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
+    // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const std::optional<BoundingSphere>& blocker, double tol) const {
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> v = polygon(j);
         const BoundingSphere* b = blocker ? &*blocker : nullptr;
+        double receiver_width = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 4; ++k) receiver_width = std::min(receiver_width, glm::length(v[(k + 1) % 4] - v[k]));
         auto g = [&](double s, double t) {
             const Vec3 nrm = si.normal(s, t);
             const double da = glm::length(nrm);
@@ -368,14 +373,29 @@ public:
             const double d00 = distance_to_polygon(c00, v), d10 = distance_to_polygon(c10, v),
                          d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
             const double dmin = std::min({d00, d10, d01, d11});
-            if (!(dmin > 0.0)) return -1;
             const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01), var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
             const int dir = var_t > var_s ? 1 : 0;
-            const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
-                                         : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
+            const double len_s = std::max(glm::length(c10 - c00), glm::length(c11 - c01)),
+                         len_t = std::max(glm::length(c01 - c00), glm::length(c11 - c10));
+            const double size = dir == 0 ? len_s : len_t, longest = std::max(len_s, len_t);
+            // A receiver narrower than the region: near the receiver's corners the integrand
+            // changes on the scale of the distance to them in every direction, so the region's
+            // longer side is split until it is no longer than that distance (a wall patch
+            // touching a 1e-4 strip along its edge has a 1e-4 feature where the strip ends).
+            if (longest > receiver_width) {
+                double dv = std::numeric_limits<double>::infinity();
+                for (const Vec3& corner : v)
+                    for (const Vec3& c : {c00, c10, c01, c11}) dv = std::min(dv, glm::length(corner - c));
+                if (longest > dv) return len_t > len_s ? 1 : 0;
+            }
+            // Touching (distance 0): the integrand is bounded but changes on the scale of the
+            // receiver's narrowest side (a 1e-4 strip along a wall's edge lights a 1e-4 band of
+            // it), which Gauss nodes of a larger region would step over.
+            if (!(dmin > 0.0)) return size > receiver_width ? dir : -1;
             return size > dmin ? dir : -1;
         };
-        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, tol * pi.area, kMaxOuterRegions, m_outer, geometric);
+        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, tol * std::min(pi.area, m_geo.patch(j).area),
+                             kMaxOuterRegions, m_outer, geometric);
     }
 
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
@@ -429,7 +449,8 @@ public:
             inner_err = std::max(inner_err, kSafety * std::abs(fine - coarse));
             return da * fine;
         };
-        Estimate e = adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * pi.area, kMaxNumericRegions, m_outer,
+        Estimate e = adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * std::min(pi.area, pj.area),
+                                   kMaxNumericRegions, m_outer,
                                    [](const Rect&) { return -1; });
         e.error += inner_err * pi.area;
         st->segment_tests += tests;

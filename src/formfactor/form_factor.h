@@ -15,8 +15,9 @@ namespace radiosa {
 class SceneGeometry;
 
 struct FormFactorOptions {
-    // > 0: error-controlled (the default): every entry is refined until its error estimate is
-    // below this absolute tolerance on F_ij. 0: the paper's fixed tensor Gauss rule of
+    // > 0: error-controlled (the default): every pair is refined until the error estimate of
+    // A_i F_ij = A_j F_ji is below tolerance x min(A_i, A_j): an absolute tolerance on F_ij in
+    // the smaller patch's row, scaled by A_small / A_large in the larger's. 0: the paper's fixed tensor Gauss rule of
     // gauss_points per parameter, kept for comparison (no error estimate).
     double tolerance = 0.0;
     int gauss_points = 6;
@@ -39,7 +40,7 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 2;
+inline constexpr int kFormFactorAlgorithmVersion = 3;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included
