@@ -161,6 +161,9 @@ TEST(Cli, SceneWithoutEmissionRendersBlackWithoutASolve) {
     const auto j = read_json(d / "r.json");
     EXPECT_EQ(j["solve"]["factorisations"], 0);
     EXPECT_EQ(j["solve"]["skipped"], "no emission: the image is black");
+    EXPECT_EQ(j["left_out"]["solve_skipped"], true);
+    EXPECT_EQ(j["left_out"]["factorisations_shared"], 3);
+    EXPECT_EQ(j["left_out"]["channel_solves_shared"], 3);
     const Image img = read_image((d / "d.exr").string());
     for (float v : img.rgb) EXPECT_EQ(v, 0.0f);
     fs::remove_all(d);

@@ -90,6 +90,17 @@ TEST(SequenceCli, PaperSequenceReproducesTable3Structure) {
     EXPECT_EQ(f[2]["solve"], "substituted");
     EXPECT_EQ(f[2]["render"], "rendered");
     for (int k = 0; k < 3; ++k) EXPECT_TRUE(fs::exists(d / (std::to_string(k) + ".png")));
+    // One reflectance set (red = green: 2 factorisations of 3) and two lightings (4 channel
+    // substitutions of 6); the stability figures cover every solve.
+    EXPECT_EQ(j["left_out"]["factorisations"], 2);
+    EXPECT_EQ(j["left_out"]["factorisations_shared"], 1);
+    EXPECT_EQ(j["left_out"]["channel_solves"], 4);
+    EXPECT_EQ(j["left_out"]["channel_solves_shared"], 2);
+    EXPECT_EQ(j["left_out"]["pairs_culled"], 712);
+    EXPECT_GT(j["solve"]["spectral_radius"].get<double>(), 0.5);
+    EXPECT_LT(j["solve"]["spectral_radius"].get<double>(), 0.9);
+    EXPECT_LT(j["solve"]["residual"].get<double>(), 1e-12);
+    EXPECT_LT(j["solve"]["energy_balance_error"].get<double>(), 2e-6);
     // A second run finds the matrix in the cache.
     ASSERT_EQ(run({"render", "--sequence", kABC, "-o", (d / "%d.png").string(), "--width", "64", "--height", "64",
                    "--samples", "1", "-q", "--report", (d / "r2.json").string(), "--cache-dir", (d / "cache").string()})

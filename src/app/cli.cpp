@@ -40,6 +40,10 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
         ->excludes(p);
     cmd->add_flag_callback("--no-visibility", [visibility] { *visibility = false; },
                            "Ignore occlusion in form factors (for comparison)");
+    bool* culling = &req->culling;
+    cmd->add_flag_callback("--no-culling", [culling] { *culling = false; },
+                           "Integrate every pair and test every surface as an occluder, without the cache: "
+                           "measures what culling saves");
     add_cache_dir_option(cmd, cache);
     cmd->add_flag_callback("--no-cache", [cache] { cache->enabled = false; },
                            "Neither read nor write the form-factor cache");

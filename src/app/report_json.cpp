@@ -23,12 +23,26 @@ nlohmann::json form_factor_stats_json(const FormFactorStats& s) {
             {"pairs_culled", s.pairs_culled},
             {"occluder_checks", s.occluder_checks},
             {"occluders_culled", s.occluders_culled},
+            {"pairs_unoccluded", s.pairs_unoccluded},
             {"segment_tests", s.segment_tests},
             {"semi_analytic", s.semi_analytic},
             {"numeric", s.numeric},
             {"by_reciprocity", s.by_reciprocity},
             {"regions", s.regions},
             {"capped", s.capped}};
+}
+
+nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s, const SharedSolves& solves) {
+    return {{"culling", o.culling},
+            {"pairs", s.pairs},
+            {"pairs_culled", s.pairs_culled},
+            {"pairs_unoccluded", s.pairs_unoccluded},
+            {"occlusion_tests_skipped", s.occluders_culled},
+            {"channel_solves", solves.channel_solves},
+            {"channel_solves_shared", solves.channel_solves_possible - solves.channel_solves},
+            {"factorisations", solves.factorisations},
+            {"factorisations_shared", solves.factorisations_possible - solves.factorisations},
+            {"solve_skipped", solves.skipped}};
 }
 
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
@@ -51,7 +65,7 @@ std::string cache_outcome_summary(const CacheOutcome& c) {
     char buf[160];
     std::string s = cache_status_name(c.status);
     switch (c.status) {
-        case CacheStatus::Off: return s + " (--no-cache)";
+        case CacheStatus::Off: return s + (c.reason.empty() ? " (--no-cache)" : " (" + c.reason + ")");
         case CacheStatus::Hit:
             std::snprintf(buf, sizeof buf, " %s (loaded in %.3f s)", c.file.c_str(), c.load_s);
             return s + buf;

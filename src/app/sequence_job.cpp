@@ -175,6 +175,7 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     r.load_s = clock.seconds();
     r.scene_name = scene.name;
     r.patches = geometry.patch_count();
+    r.closed = scene.closed;
     r.surfaces = geometry.surface_count();
     r.fps = seq.fps;
 
@@ -211,6 +212,10 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     for (const auto& rho : plan.reflectances) {
         solvers.push_back(std::make_unique<RadiositySolver>(ff.F, rho, job.solver));
         r.factorisations += solvers.back()->factorisations();
+        for (int c = 0; c < 3; ++c) {
+            r.spectral_radius = std::max(r.spectral_radius, solvers.back()->stability(c).spectral_hi);
+            r.condition_estimate = std::max(r.condition_estimate, solvers.back()->stability(c).condition);
+        }
     }
     {
         std::string last_warning;
@@ -235,6 +240,11 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
             if (fp.solve == SolveAction::Factorised) rec.solve_s += solver->factorise_seconds();
             solutions[fp.solution] = solver->solve(plan.solutions[fp.solution].E);
             r.channel_solves += solver->last_channel_solves();
+            const SolveDiagnostics d =
+                diagnose_solution(ff.F, ff.area, {plan.reflectances[fp.reflectance_set], plan.solutions[fp.solution].E},
+                                  solutions[fp.solution]);
+            r.residual = std::max(r.residual, d.residual);
+            if (scene.closed) r.energy_balance_error = std::max(r.energy_balance_error, d.energy_balance_error);
         }
         rec.solve_s = clock.seconds();
         clock = Stopwatch();
@@ -298,6 +308,13 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                   {"samples_per_axis", r.render.samples}, {"exposure_stops", job.exposure}, {"crf", job.crf}};
     j["form_factor_cache"] = cache_outcome_json(r.cache);
     j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
+    j["left_out"] = left_out_json(r.ff_options, r.form_factor_stats,
+                                  {r.factorisations, 3 * r.reflectance_sets, r.channel_solves, 3 * r.substitutions, false});
+    j["solve"] = {{"method", solver_method_name(job.solver)},
+                  {"spectral_radius", r.spectral_radius},
+                  {"condition_estimate", r.condition_estimate > 0 ? json(r.condition_estimate) : json(nullptr)},
+                  {"residual", r.residual},
+                  {"energy_balance_error", r.closed ? json(r.energy_balance_error) : json(nullptr)}};
     j["totals"] = {{"load_s", r.load_s},
                    {"form_factors_s", r.form_factors_s},
                    {"solve_s", r.solve_s},

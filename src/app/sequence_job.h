@@ -50,6 +50,10 @@ struct SequenceReport {
     CacheOutcome cache;
     FormFactorStats form_factor_stats;
     int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0, copies = 0;
+    // Over every factorisation and solution of the plan: the worst spectral-radius bound of
+    // rho F, condition estimate (LU), residual and energy balance (closed scenes).
+    double spectral_radius = 0.0, condition_estimate = 0.0, residual = 0.0, energy_balance_error = 0.0;
+    bool closed = true;
     std::vector<FrameRecord> frames;
     struct PaletteResult {
         int colours = 0;

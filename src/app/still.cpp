@@ -71,6 +71,7 @@ StillReport run_still(const StillJob& job) {
         }
         B = solver.solve(mat.E);
         r.factorisations = solver.factorisations();
+        r.channel_solves = solver.last_channel_solves();
         r.iterations = solver.last_iterations();
     }
     r.times.solve_s = clock.seconds();
@@ -115,6 +116,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     add_form_factor_checks(j, r.checks);
     j["form_factor_stats"] = form_factor_stats_json(r.form_factor_stats);
     j["form_factor_cache"] = cache_outcome_json(r.cache);
+    j["left_out"] = left_out_json(r.ff_options, r.form_factor_stats, {r.factorisations, 3, r.channel_solves, 3, r.dark});
     j["solve"] = {{"method", solver_method_name(job.solver)},
                   {"skipped", r.dark ? json("no emission: the image is black") : json(nullptr)},
                   {"spectral_radius", r.spectral_radius},

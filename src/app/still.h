@@ -41,8 +41,9 @@ struct StillReport {
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]"
     int factorisations = 0;
-    bool dark = false;
-    int iterations = 0;               // iterative solvers: sweeps needed                // no emission anywhere: no solve
+    int channel_solves = 0;           // substitutions run; channels identical to another share one
+    bool dark = false;                // no emission anywhere: no solve
+    int iterations = 0;               // iterative solvers: sweeps needed
     double spectral_radius = 0.0;     // upper bound, max over channels, of the spectral radius of rho F
     double condition_estimate = 0.0;  // max over channels of the LU's condition estimate (0: none)
     SolveDiagnostics solve;

@@ -205,8 +205,8 @@ void write_cache_file(const fs::path& path, const CacheKey& key, const std::stri
     w.u32(static_cast<std::uint32_t>(ff.gauss_points));
     w.f64(ff.tolerance);
     const FormFactorStats& st = ff.stats;
-    for (long long v : {st.pairs, st.pairs_culled, st.occluder_checks, st.occluders_culled, st.segment_tests,
-                        st.semi_analytic, st.numeric, st.by_reciprocity, st.regions, st.capped})
+    for (long long v : {st.pairs, st.pairs_culled, st.occluder_checks, st.occluders_culled, st.pairs_unoccluded,
+                        st.segment_tests, st.semi_analytic, st.numeric, st.by_reciprocity, st.regions, st.capped})
         w.i64(v);
     w.raw(section.data(), section.size());
     w.u64(checksum(w.bytes().data(), w.bytes().size()));
@@ -282,8 +282,9 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
         ff.gauss_points = static_cast<int>(in.u32());
         ff.tolerance = in.f64();
         FormFactorStats& st = ff.stats;
-        for (long long* v : {&st.pairs, &st.pairs_culled, &st.occluder_checks, &st.occluders_culled, &st.segment_tests,
-                             &st.semi_analytic, &st.numeric, &st.by_reciprocity, &st.regions, &st.capped})
+        for (long long* v : {&st.pairs, &st.pairs_culled, &st.occluder_checks, &st.occluders_culled,
+                             &st.pairs_unoccluded, &st.segment_tests, &st.semi_analytic, &st.numeric, &st.by_reciprocity,
+                             &st.regions, &st.capped})
             *v = in.i64();
         if (h.stored != in.remaining() - 8)
             throw CacheFileError("matrix section is " + std::to_string(in.remaining() - 8) + " bytes, header says " +
@@ -397,6 +398,12 @@ FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometr
         return ff;
     };
     if (!settings.enabled) return finish(compute());
+    if (!options.culling) {
+        // A timing diagnostic: it must be computed to be timed, and in error-controlled mode
+        // (no closed form without the proofs) its matrix is less accurate: never stored.
+        o.reason = "--no-culling";
+        return finish(compute());
+    }
 
     const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
     const CacheKey key = form_factor_key(scene, options);

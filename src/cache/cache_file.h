@@ -12,7 +12,7 @@
 //   table    per surface: str name, u32 ns, u32 nt
 //            per patch:   u32 surface, u32 is, u32 it, f64 area
 //            u32 gauss points (0 when error-controlled), f64 tolerance (0 for the fixed rule),
-//            10 x i64: the statistics of the computation
+//            11 x i64: the statistics of the computation (FormFactorStats, in declaration order)
 //            (no timings: equal inputs give byte-identical files)
 //   matrix   dense: N*N f64 row-major; CSR: (N+1) u64 row starts, nnz u32 columns, nnz f64 values;
 //            then, when flagged, N*N f64 error estimates; zstd-compressed as a whole when flagged
@@ -31,7 +31,7 @@ namespace radiosa {
 struct Scene;
 class SceneGeometry;
 
-inline constexpr std::uint32_t kCacheFormatVersion = 2;
+inline constexpr std::uint32_t kCacheFormatVersion = 3;
 
 struct CacheKey {
     std::array<std::uint8_t, 16> bytes{};

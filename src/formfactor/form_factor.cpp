@@ -89,6 +89,7 @@ public:
     bool culled(int i, int j) const {
         const Patch& pi = m_geo.patch(i);
         const Patch& pj = m_geo.patch(j);
+        if (!m_opt.culling) return false;
         if (pi.surface == pj.surface && !m_geo.surface(pi.surface).sees_itself()) return true;
         if (auto pl = m_geo.surface(pi.surface).plane(); pl && extent(pj, *pl).second <= m_eps) return true;
         if (auto pl = m_geo.surface(pj.surface).plane(); pl && extent(pi, *pl).second <= m_eps) return true;
@@ -107,6 +108,10 @@ public:
             ++st->occluder_checks;
             const bool on_i = pi.surface == k, on_j = pj.surface == k;
             bool can_block = true;
+            if (!m_opt.culling) {
+                out->push_back(k);
+                continue;
+            }
             if (on_i && on_j) can_block = !s.chords_never_cross();
             else if (on_i || on_j) can_block = !s.front_segments_escape();
             if (can_block)
@@ -126,6 +131,7 @@ public:
             if (can_block) out->push_back(k);
             else ++st->occluders_culled;
         }
+        if (out->empty()) ++st->pairs_unoccluded;
     }
 
     // The double integral of the symmetric kernel: G_ij = pi A_i F_ij = pi A_j F_ji.
@@ -556,6 +562,7 @@ FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactor
         total.pairs_culled += local.pairs_culled;
         total.occluder_checks += local.occluder_checks;
         total.occluders_culled += local.occluders_culled;
+        total.pairs_unoccluded += local.pairs_unoccluded;
         total.segment_tests += local.segment_tests;
         total.semi_analytic += local.semi_analytic;
         total.numeric += local.numeric;

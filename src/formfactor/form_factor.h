@@ -22,9 +22,14 @@ struct FormFactorOptions {
     double tolerance = 0.0;
     int gauss_points = 6;
     bool visibility = true;
+    // Leave out the work proven useless: pairs that cannot see each other (no quadrature) and
+    // surfaces that cannot come between a pair (no occlusion tests; with none left, the closed
+    // form applies). false integrates every pair against every surface: a diagnostic that
+    // measures what culling saves (README, "Leaving out what a scene does not need").
+    bool culling = true;
 
-    static FormFactorOptions gauss(int p, bool visibility = true) { return {0.0, p, visibility}; }
-    static FormFactorOptions adaptive(double tol, bool visibility = true) { return {tol, 6, visibility}; }
+    static FormFactorOptions gauss(int p, bool visibility = true) { return {0.0, p, visibility, true}; }
+    static FormFactorOptions adaptive(double tol, bool visibility = true) { return {tol, 6, visibility, true}; }
 };
 
 // The default absolute tolerance on each F_ij (see README, "Form-factor accuracy").
@@ -47,6 +52,7 @@ struct FormFactorStats {
     long long pairs_culled = 0;      // proven zero without quadrature (coplanar, facing away, convex self)
     long long occluder_checks = 0;   // (pair, surface) combinations considered as possible blockers
     long long occluders_culled = 0;  // ... of which proven unable to block (no per-point tests)
+    long long pairs_unoccluded = 0;  // computed pairs that no surface can block: no occlusion tests at all
     long long segment_tests = 0;     // exact segment-surface intersection tests performed
     // Error-controlled mode: how each computed direction of a pair was integrated.
     long long semi_analytic = 0;     // closed-form inner integral (planar receiver), adaptive outer

@@ -1,0 +1,107 @@
+// Leaving out what a scene does not need: pairs that cannot see each other get no quadrature,
+// surfaces that cannot come between a pair get no occlusion tests, identical channels share
+// one solve. Culling must change the work, never the answer; the report counts what it saved.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "cli_run.h"
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "scene/scene.h"
+
+namespace radiosa {
+
+namespace fs = std::filesystem;
+using test::CliRun;
+using test::fresh_dir;
+using test::read_json;
+using test::run;
+
+namespace {
+
+FormFactors seed(FormFactorOptions o) {
+    return compute_form_factors(SceneGeometry(load_scene(test::kSeedScene)), o);
+}
+
+}  // namespace
+
+// The paper's fixed rule evaluates the same terms either way: a culled pair's terms are all
+// zero and a culled occluder's tests all miss, so the matrices agree to the last bit.
+TEST(Culling, ChangesTheWorkNotTheMatrix) {
+    FormFactorOptions off = FormFactorOptions::gauss(4);
+    off.culling = false;
+    const FormFactors with = seed(FormFactorOptions::gauss(4)), without = seed(off);
+    EXPECT_EQ(with.F.data, without.F.data);
+    // 6 faces x C(9, 2) coplanar pairs + C(32, 2) pairs on the convex sphere, of 86 x 87 / 2.
+    EXPECT_EQ(with.stats.pairs, 3741);
+    EXPECT_EQ(with.stats.pairs_culled, 6 * 36 + 496);
+    EXPECT_EQ(without.stats.pairs_culled, 0);
+    // Every sphere-to-face pair (32 x 54) is proven free of occluders: the sphere's own
+    // segments leave it, and both ends lie inside every face's plane.
+    EXPECT_GE(with.stats.pairs_unoccluded, 32 * 54);
+    EXPECT_EQ(without.stats.pairs_unoccluded, 0);
+    EXPECT_EQ(without.stats.occluders_culled, 0);
+    EXPECT_GT(without.stats.segment_tests, 10 * with.stats.segment_tests);
+}
+
+// In a convex scene nothing can come between two patches: no occlusion test at all, and every
+// computed pair takes the closed-form inner integral.
+TEST(Culling, ConvexSceneNeedsNoOcclusionTests) {
+    std::string yaml = "closed: true\nsurfaces:\n";
+    const char* faces[] = {"[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]", "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]",
+                           "[[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]", "[[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]",
+                           "[[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]]", "[[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]]"};
+    for (int k = 0; k < 6; ++k)
+        yaml += "  - name: f" + std::to_string(k) + "\n    type: quad\n    corners: " + faces[k] +
+                "\n    patches: [2, 2]\n    reflectance: [0.5, 0.5, 0.5]\n";
+    const SceneGeometry g(parse_scene(yaml, "cube.yaml"));
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-6));
+    EXPECT_EQ(ff.stats.pairs, 24 * 25 / 2);
+    EXPECT_EQ(ff.stats.pairs_culled, 6 * 6);  // coplanar pairs
+    // Every other pair but the 24 flat self pairs (F_ii = 0, never integrated).
+    EXPECT_EQ(ff.stats.pairs_unoccluded, ff.stats.pairs - ff.stats.pairs_culled - 24);
+    EXPECT_EQ(ff.stats.segment_tests, 0);
+    EXPECT_EQ(ff.stats.numeric, 0);
+    EXPECT_LT(check_form_factors(ff).closure_max_error, 1e-6);
+}
+
+// The report's "left_out" block: the seed scene's culling counts and its shared solves (red and
+// green have equal reflectance and emission: one factorisation and one substitution serve
+// both); --no-culling neither reads nor writes the cache and says so.
+TEST(Culling, ReportCountsWhatWasLeftOut) {
+    const fs::path d = fresh_dir("radiosa_culling_report");
+    const std::string cam = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
+    CliRun r = run({"render", test::kSeedScene, "-c", cam, "-o", (d / "a.png").string(), "--width", "16", "--height",
+                    "16", "-p", "3", "--report", (d / "on.json").string(), "--cache-dir", (d / "cache").string(), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    auto j = read_json(d / "on.json")["left_out"];
+    EXPECT_EQ(j["culling"], true);
+    EXPECT_EQ(j["pairs"], 3741);
+    EXPECT_EQ(j["pairs_culled"], 712);
+    EXPECT_GE(j["pairs_unoccluded"].get<int>(), 32 * 54);
+    EXPECT_GT(j["occlusion_tests_skipped"].get<int>(), 0);
+    EXPECT_EQ(j["factorisations"], 2);
+    EXPECT_EQ(j["factorisations_shared"], 1);
+    EXPECT_EQ(j["channel_solves"], 2);
+    EXPECT_EQ(j["channel_solves_shared"], 1);
+    EXPECT_EQ(j["solve_skipped"], false);
+
+    fs::remove_all(d / "cache");
+    r = run({"render", test::kSeedScene, "-c", cam, "-o", (d / "a.png").string(), "--width", "16", "--height", "16",
+             "-p", "3", "--no-culling", "--report", (d / "off.json").string(), "--cache-dir", (d / "cache").string(), "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto off = read_json(d / "off.json");
+    EXPECT_EQ(off["left_out"]["culling"], false);
+    EXPECT_EQ(off["left_out"]["pairs_culled"], 0);
+    EXPECT_EQ(off["left_out"]["occlusion_tests_skipped"], 0);
+    EXPECT_EQ(off["form_factor_cache"]["status"], "off");
+    EXPECT_EQ(off["form_factor_cache"]["reason"], "--no-culling");
+    EXPECT_FALSE(fs::exists(d / "cache") && !fs::is_empty(d / "cache"));
+    EXPECT_EQ(off["closure_max_error"], read_json(d / "on.json")["closure_max_error"]);
+    fs::remove_all(d);
+}
+
+}  // namespace radiosa
