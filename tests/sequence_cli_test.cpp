@@ -10,6 +10,7 @@
 #include "app/cli.h"
 #include "cli_run.h"
 #include "app/sequence_job.h"
+#include "encode/features.h"
 #include "encode/frame_sink.h"
 #include "encode/video_writer.h"
 #include "formfactor/form_factor.h"
@@ -49,6 +50,7 @@ events:
 }  // namespace
 
 TEST(SequenceCli, VideoHasTheRightFramesDurationAndRate) {
+    if (!kHasVideo) GTEST_SKIP() << kNoVideoMessage;
     const fs::path d = fresh_dir("radiosa_seq_video");
     const fs::path seq = write_sequence(d, 24, 0.5);
     const CliRun r = run({"render", "--sequence", seq.string(), "-o", (d / "v.mp4").string(), "--width", "64",
@@ -166,7 +168,8 @@ TEST(SequenceCli, BadOutputsAreRefusedBeforeAnyWork) {
     CliRun r = run({"render", "-s", seq.string(), "-o", (d / "v.mp4").string(), "--width", "63", "--height", "48"});
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "error: " + (d / "v.mp4").string() +
-                         ": H.264 in yuv420p needs an even width and height, got 63x48 (use --width/--height)\n");
+                         (kHasVideo ? ": H.264 in yuv420p needs an even width and height, got 63x48 (use --width/--height)\n"
+                                    : std::string(": ") + kNoVideoMessage + "\n"));
     r = run({"render", "-s", seq.string(), "-o", (d / "frame.png").string()});
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "error: " + (d / "frame.png").string() +
@@ -184,7 +187,31 @@ TEST(SequenceCli, BadOutputsAreRefusedBeforeAnyWork) {
     fs::remove_all(d);
 }
 
+// A build without libav (-DRADIOSA_VIDEO=OFF) refuses video and palette outputs before any
+// work, with the way out in the message, and says what it has in --version; a build with it
+// says so too.
+TEST(SequenceCli, OutputsThisBuildCannotWriteAreRefusedBeforeAnyWork) {
+    CliRun r = run({"--version"});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find(kHasVideo ? "outputs (libav): yes" : "outputs (libav): no"), std::string::npos) << r.out;
+    if (kHasVideo) return;
+    const fs::path d = fresh_dir("radiosa_seq_novideo");
+    const fs::path seq = write_sequence(d, 4, 0.4);
+    for (const auto& args : {std::vector<std::string>{"-o", (d / "v.mp4").string()},
+                             std::vector<std::string>{"--palette", "16", "-o", (d / "p.gif").string()},
+                             std::vector<std::string>{"--palette", "16", "-o", (d / "p%d.png").string()}}) {
+        std::vector<std::string> a = {"render", "-s", seq.string(), "--width", "16", "--height", "16"};
+        a.insert(a.end(), args.begin(), args.end());
+        r = run(a);
+        EXPECT_EQ(r.code, 1);
+        EXPECT_NE(r.err.find(kNoVideoMessage), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 1);  // only seq.yaml
+    fs::remove_all(d);
+}
+
 TEST(SequenceCli, PaletteSequenceWritesGifAndIndexedPngsAndReportsPsnr) {
+    if (!kHasVideo) GTEST_SKIP() << kNoVideoMessage;
     const fs::path d = fresh_dir("radiosa_seq_palette");
     const fs::path seq = write_sequence(d, 10, 0.4);
     CliRun r = run({"render", "-s", seq.string(), "--palette", "16", "-o", (d / "p.gif").string(), "-o",

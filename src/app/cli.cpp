@@ -11,6 +11,7 @@
 #include "app/formfactors_cmd.h"
 #include "app/sequence_job.h"
 #include "app/still.h"
+#include "encode/features.h"
 #include "util/error.h"
 
 namespace radiosa {
@@ -102,9 +103,14 @@ void add_formfactors_options(CLI::App* cmd, FormFactorsJob* job, bool* quiet) {
     cmd->add_flag("--quiet,-q", *quiet, "Print nothing on success");
 }
 
+// out/STEM.mp4; in a build without video, numbered PNGs in out/STEM/ (created).
 std::string default_sequence_output(const std::string& sequence) {
     namespace fs = std::filesystem;
-    return (fs::path("out") / (fs::path(sequence).stem().string() + ".mp4")).string();
+    const std::string stem = fs::path(sequence).stem().string();
+    if (kHasVideo) return (fs::path("out") / (stem + ".mp4")).string();
+    std::error_code ec;
+    fs::create_directories(fs::path("out") / stem, ec);
+    return (fs::path("out") / stem / "%04d.png").string();
 }
 
 std::string default_output(const StillJob& job) {
@@ -120,6 +126,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     CLI::App app{"radiosa: radiosity for curved parametric surfaces (parametric differential method)",
                  "radiosa"};
     app.require_subcommand(0, 1);
+    app.set_version_flag("--version", std::string("radiosa " RADIOSA_VERSION "; video and palette outputs (libav): ") +
+                                          (kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF"));
     bool quiet = false;
     const WarningSink warn = [&err](const std::string& w) { err << "warning: " << w << "\n"; };
 
@@ -162,6 +170,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         } catch (const CLI::CallForHelp&) {
             out << app.help();
             return 0;
+        } catch (const CLI::CallForVersion& v) {
+            out << v.what() << "\n";
+            return 0;
         } catch (const CLI::ParseError& e) {
             if (e.get_exit_code() == 0) {  // --help on a subcommand
                 for (CLI::App* c : {render, formfactors, accuracy, cache_list_cmd, cache_verify_cmd, cache_clear_cmd, cache})
@@ -199,7 +210,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         if (demo) {
             sequence = kDemoSequence;
             job.scene_path = kDemoScene;
-            if (job.outputs.empty()) job.outputs = {kDemoOutput};
+            if (job.outputs.empty()) job.outputs = {kHasVideo ? kDemoOutput : default_sequence_output(kDemoSequence)};
             if (!job.report_path) job.report_path = kDemoReport;
         }
         if (!sequence.empty()) {

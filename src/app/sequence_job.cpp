@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "app/report_json.h"
+#include "encode/features.h"
 #include "encode/frame_sink.h"
 #include "geometry/scene_geometry.h"
 #include "render/camera.h"
@@ -95,6 +96,7 @@ private:
 bool is_gif(const std::string& path) { return path.ends_with(".gif") || path.ends_with(".GIF"); }
 
 void check_palette_output(const std::string& path) {
+    if (!kHasVideo) throw Error(path + ": --palette: " + kNoVideoMessage);
     if (is_gif(path)) {
         check_output_path(path);
         return;

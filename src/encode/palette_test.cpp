@@ -1,4 +1,5 @@
 // Palette quantisers, the mapper, PSNR, and indexed outputs read back.
+#include "encode/features.h"
 #include "encode/palette.h"
 
 #include <gtest/gtest.h>
@@ -59,6 +60,7 @@ TEST(Palette, MedianCutKeepsRareColoursThatPopularityDrops) {
 }
 
 TEST(Palette, IndexedPngAndGifDecode) {
+    if (!kHasVideo) GTEST_SKIP() << kNoVideoMessage;
     namespace fs = std::filesystem;
     const fs::path d = fs::temp_directory_path() / "radiosa_palette_out";
     fs::remove_all(d);
