@@ -144,8 +144,9 @@ TEST(ExtremeScene, EmittingPatchOfArea1em8) {
     EXPECT_NEAR(s.energy.emitted_power.r, 1.0, 1e-12);
     // The power the room absorbs is sum_i A_i F(i -> emitter) E over 24 room patches, each
     // entry within 1e-6 of the emitter's power (the tolerance applies to A_i F_ij on the
-    // smaller patch's scale): measured 1.1e-6. With the tolerance on the larger patch's scale,
-    // as before, it was 2.8e-4.
+    // smaller patch's scale, and the room's entries come from the emitter's row by
+    // reciprocity): measured 1.3e-9. With the tolerance on the larger patch's scale, as
+    // before, it was 2.8e-4.
     EXPECT_LT(s.energy.energy_balance_error, 24e-6);
     { char buf[32]; std::snprintf(buf, sizeof buf, "%.2e", s.energy.energy_balance_error); RecordProperty("energy_balance_error", buf); }
     const int e = s.geometry.patch_count() - 1;  // the emitter's row: it sees only the room

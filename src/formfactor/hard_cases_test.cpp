@@ -87,6 +87,16 @@ TEST(HardCases, VeryElongatedOpposedStrips) {
                   analytic::parallel_rectangles(1, 1e-4, 1), "strips");
 }
 
+TEST(HardCases, SquareTouchingANarrowerStripThatEndsAtItsCorner) {
+    // A 0.5 x 0.5 wall patch and a 1 x 0.25 floor strip along its bottom edge line, both
+    // starting at y = 0: the strip is narrower than the wall, whose integrand changes on the
+    // strip's scale near the strip's end. By symmetry the half-length wall sees the strip as
+    // the full-length wall (C-14 with l = 1) does.
+    expect_within(scene_of(quad("wall", "[[1, 0, 0], [1, 0, 0.5], [1, 0.5, 0.5], [1, 0.5, 0]]") +
+                           quad("strip", "[[0.9375, 0, 0], [1, 0, 0], [1, 1, 0], [0.9375, 1, 0]]")),
+                  analytic::perpendicular_rectangles(1, 0.5, 0.0625), "narrower strip");
+}
+
 TEST(HardCases, GrazingNearlyCoplanarPatchesSharingAnEdge) {
     // Two squares at 179.9 degrees: a factor near zero, never negative or NaN.
     const double a = 0.1 * kPi / 180.0;
