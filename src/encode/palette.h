@@ -52,7 +52,8 @@ struct PsnrAccumulator {
     double psnr_db() const;
 };
 
-// Indexed PNG (one frame) and GIF (all frames) through libav's png and gif encoders.
+// Indexed PNG (one frame) and GIF (all frames) through libav's png and gif encoders
+// (palette_av.cpp); a build with -DRADIOSA_VIDEO=OFF has none and these throw Error.
 void write_indexed_png(const std::string& path, int width, int height, const std::vector<std::uint8_t>& index,
                        const std::vector<Colour8>& palette);
 class GifWriter {

@@ -2,7 +2,8 @@
 // H.264 in MP4 with FFmpeg's libav (libavcodec/libavformat/libswscale): 8-bit sRGB frames in,
 // yuv420p BT.709 out, constant frame rate. Written under a temporary name and renamed by
 // finish(); a writer destroyed without finish() removes its temporary file. Every libav call
-// is checked: a failure throws Error naming the call and the file.
+// is checked: a failure throws Error naming the call and the file. A build with
+// -DRADIOSA_VIDEO=OFF has no libav: every function here then throws Error (no_video.cpp).
 #include <cstdint>
 #include <filesystem>
 #include <memory>
