@@ -1,0 +1,119 @@
+// Stage benchmarks (Google Benchmark) on the 1991 paper's scene: form factors with and without
+// culling, the solve (factorisation, a new lighting by substitution, the paper's Gauss-Jordan),
+// one rendered frame, and loading the cached matrix. Results and the machine they ran on are
+// kept in docs/bench.md; compare figures as ratios within one run (2-core machines are noisy).
+//
+//   build/radiosa_bench                       # everything
+//   build/radiosa_bench --benchmark_filter=FormFactors
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "cache/cache_file.h"
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "render/camera.h"
+#include "render/raycast.h"
+#include "render/shading.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+#include "solve/solver.h"
+
+namespace radiosa {
+namespace {
+
+struct Seed {
+    Scene scene = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    SceneGeometry geometry{scene};
+    FormFactors ff = compute_form_factors(geometry, FormFactorOptions::adaptive(kDefaultFormFactorTolerance));
+    Materials materials = patch_materials(scene, geometry);
+};
+
+const Seed& seed() {
+    static const Seed s;
+    return s;
+}
+
+void count_pairs(benchmark::State& state, const FormFactorStats& st) {
+    state.counters["pairs_culled"] = static_cast<double>(st.pairs_culled);
+    state.counters["segment_tests"] = static_cast<double>(st.segment_tests);
+}
+
+// args: {0 = the paper's Gauss rule p = 6, 1 = error control at 1e-6} x {culling off, on}
+void FormFactors_Seed(benchmark::State& state) {
+    const bool adaptive = state.range(0) == 1;
+    FormFactorOptions o = adaptive ? FormFactorOptions::adaptive(kDefaultFormFactorTolerance) : FormFactorOptions::gauss(6);
+    o.culling = state.range(1) == 1;
+    const Seed& s = seed();  // built outside the timed loop
+    FormFactorStats st;
+    for (auto _ : state) {
+        const FormFactors ff = compute_form_factors(s.geometry, o);
+        st = ff.stats;
+        benchmark::DoNotOptimize(ff.F.data.data());
+    }
+    count_pairs(state, st);
+    state.SetLabel(std::string(adaptive ? "adaptive 1e-6" : "gauss p=6") + (o.culling ? ", culling" : ", no culling"));
+}
+// Error control without culling takes ~25 s per run (README, "Leaving out"): one iteration.
+BENCHMARK(FormFactors_Seed)->Args({0, 1})->Args({0, 0})->Args({1, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(FormFactors_Seed)->Args({1, 0})->Iterations(1)->Unit(benchmark::kMillisecond);
+
+// args: solver method (as SolverMethod)
+void Factorise_Seed(benchmark::State& state) {
+    const auto method = static_cast<SolverMethod>(state.range(0));
+    const Seed& s = seed();
+    for (auto _ : state) {
+        const RadiositySolver solver(s.ff.F, s.materials.rho, method);
+        benchmark::DoNotOptimize(solver.factorisations());
+    }
+    state.SetLabel(solver_method_name(method));
+}
+BENCHMARK(Factorise_Seed)->Arg(static_cast<int>(SolverMethod::LU))->Unit(benchmark::kMicrosecond);
+
+// A new lighting: LU substitution into the kept factorisation, against the solvers that redo
+// everything (the paper's Gauss-Jordan, the iterative methods).
+void Solve_Seed(benchmark::State& state) {
+    const auto method = static_cast<SolverMethod>(state.range(0));
+    const Seed& s = seed();
+    const RadiositySolver solver(s.ff.F, s.materials.rho, method);
+    for (auto _ : state) benchmark::DoNotOptimize(solver.solve(s.materials.E).data());
+    state.SetLabel(solver_method_name(method));
+}
+BENCHMARK(Solve_Seed)
+    ->Arg(static_cast<int>(SolverMethod::LU))
+    ->Arg(static_cast<int>(SolverMethod::GaussJordan))
+    ->Arg(static_cast<int>(SolverMethod::Jacobi))
+    ->Arg(static_cast<int>(SolverMethod::GaussSeidel))
+    ->Arg(static_cast<int>(SolverMethod::Southwell))
+    ->Unit(benchmark::kMicrosecond);
+
+// One 512 x 512 frame of image A, 3 x 3 rays per pixel, exact ray casting.
+void Render_Seed(benchmark::State& state) {
+    const Seed& s = seed();
+    const RadiositySolver solver(s.ff.F, s.materials.rho, SolverMethod::LU);
+    const NodeRadiosity nodes(s.geometry, solver.solve(s.materials.E), s.materials.E);
+    RenderOptions ro;
+    ro.width = ro.height = static_cast<int>(state.range(0));
+    const PinholeCamera cam(load_camera(RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml"), ro.width, ro.height);
+    for (auto _ : state) benchmark::DoNotOptimize(render_image(s.geometry, nodes, cam, ro).rgb.data());
+    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(ro.width) * ro.height * ro.samples * ro.samples,
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(Render_Seed)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Loading the cached matrix (with every check: checksum, key, patch table, finite entries).
+void CacheLoad_Seed(benchmark::State& state) {
+    const Seed& s = seed();
+    const auto path = std::filesystem::temp_directory_path() / "radiosa_bench_seed.rff";
+    const CacheKey key = form_factor_key(s.scene, FormFactorOptions::adaptive(kDefaultFormFactorTolerance));
+    write_cache_file(path, key, s.scene.name, s.geometry, s.ff);
+    for (auto _ : state) benchmark::DoNotOptimize(read_cache_file(path, key, &s.geometry).F.data.data());
+    state.counters["bytes"] = static_cast<double>(std::filesystem::file_size(path));
+    std::filesystem::remove(path);
+}
+BENCHMARK(CacheLoad_Seed)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace radiosa
+
+BENCHMARK_MAIN();
