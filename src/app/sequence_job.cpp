@@ -242,13 +242,16 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
             if (fp.solve == SolveAction::Factorised) rec.solve_s += solver->factorise_seconds();
             solutions[fp.solution] = solver->solve(plan.solutions[fp.solution].E);
             r.channel_solves += solver->last_channel_solves();
+        }
+        // += keeps the factorisation charged above (it ran in the prepass).
+        rec.solve_s += clock.seconds();
+        if (fp.solve != SolveAction::Reused) {  // diagnostics, not timed as solving
             const SolveDiagnostics d =
                 diagnose_solution(ff.F, ff.area, {plan.reflectances[fp.reflectance_set], plan.solutions[fp.solution].E},
                                   solutions[fp.solution]);
             r.residual = std::max(r.residual, d.residual);
             if (scene.closed) r.energy_balance_error = std::max(r.energy_balance_error, d.energy_balance_error);
         }
-        rec.solve_s = clock.seconds();
         clock = Stopwatch();
         if (fp.render == RenderAction::Rendered) {
             if (nodes_solution != fp.solution) {
