@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "record.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "render/image_io.h"
@@ -69,13 +70,6 @@ double point_to_corner_rectangle(double a, double b, double c) {
     return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * 3.14159265358979323846);
 }
 
-// The measured figure, in the test report (--gtest_output), for the README's table.
-void record(const char* key, double value) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2e", value);
-    ::testing::Test::RecordProperty(key, buf);
-}
-
 }  // namespace
 
 // A sphere of diameter 1e-4 in the centre of a unit furnace room: walls emit 1 with
@@ -95,7 +89,7 @@ TEST(ExtremeScene, SphereOneTenThousandthOfTheRoom) {
     }
     EXPECT_LT(worst_wall, 1e-6);
     EXPECT_LT(worst_bead, 1e-6);
-    record("bead_rel_error", worst_bead);
+    test::record("bead_rel_error", worst_bead);
 }
 
 // The same room seen through a camera 3e-4 from the bead: exact ray casting finds the true
@@ -149,7 +143,7 @@ TEST(ExtremeScene, EmittingPatchOfArea1em8) {
     }
     EXPECT_EQ(floor_patches, 16);
     EXPECT_LT(worst, 1e-6);
-    record("floor_rel_error", worst);
+    test::record("floor_rel_error", worst);
     EXPECT_NEAR(s.energy.emitted_power.r, 1.0, 1e-12);
     // The power the room absorbs is sum_i A_i F(i -> emitter) E over 24 room patches, each
     // entry within 1e-6 of the emitter's power (the tolerance applies to A_i F_ij on the
@@ -157,7 +151,7 @@ TEST(ExtremeScene, EmittingPatchOfArea1em8) {
     // reciprocity): measured 1.3e-9. With the tolerance on the larger patch's scale, as
     // before, it was 2.8e-4.
     EXPECT_LT(s.energy.energy_balance_error, 24e-6);
-    record("energy_balance_error", s.energy.energy_balance_error);
+    test::record("energy_balance_error", s.energy.energy_balance_error);
     const int e = s.geometry.patch_count() - 1;  // the emitter's row: it sees only the room
     double row = 0.0;
     for (int j = 0; j < s.geometry.patch_count(); ++j) row += s.ff.F(e, j);
@@ -181,7 +175,7 @@ TEST(ExtremeScene, PatchTenThousandTimesLongerThanWide) {
     double worst = 0.0;
     for (const Rgb& b : s.B) worst = std::max(worst, std::abs(b.r - 2.0) / 2.0);
     EXPECT_LT(worst, 2e-6);
-    record("furnace_rel_error", worst);
+    test::record("furnace_rel_error", worst);
 }
 
 }  // namespace radiosa

@@ -21,7 +21,6 @@ namespace {
 // The built-in demo: an orbit of the paper's scene with a relighting sweep and a colour change.
 constexpr const char* kDemoScene = "scenes/baranoski1991.yaml";
 constexpr const char* kDemoSequence = "cameras/demo.yaml";
-constexpr const char* kDemoOutput = "out/demo.mp4";
 constexpr const char* kDemoReport = "out/demo.json";
 
 void add_cache_dir_option(CLI::App* cmd, CacheSettings* cache) {
@@ -210,7 +209,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         if (demo) {
             sequence = kDemoSequence;
             job.scene_path = kDemoScene;
-            if (job.outputs.empty()) job.outputs = {kHasVideo ? kDemoOutput : default_sequence_output(kDemoSequence)};
+            if (job.outputs.empty()) job.outputs = {default_sequence_output(kDemoSequence)};
             if (!job.report_path) job.report_path = kDemoReport;
         }
         if (!sequence.empty()) {

@@ -4,7 +4,7 @@
 // stills and numbered true-colour frames through OpenImageIO only, and refuses the others
 // before any work with a message that says how to get them.
 #ifndef RADIOSA_HAS_VIDEO
-#define RADIOSA_HAS_VIDEO 1
+#error "RADIOSA_HAS_VIDEO is set by CMake (option RADIOSA_VIDEO) on radiosa_lib and its users"
 #endif
 
 namespace radiosa {

@@ -16,11 +16,7 @@ using test::scene_of;
 
 namespace {
 FormFactors form_factors(const Scene& scene, int p, bool visibility = true) {
-    const SceneGeometry geo(scene);
-    FormFactorOptions o;
-    o.gauss_points = p;
-    o.visibility = visibility;
-    return compute_form_factors(geo, o);
+    return compute_form_factors(SceneGeometry(scene), FormFactorOptions::gauss(p, visibility));
 }
 double row_sum(const FormFactors& ff, int i) {
     double s = 0;

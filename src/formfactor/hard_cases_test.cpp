@@ -19,11 +19,7 @@ using test::scene_of;
 namespace {
 
 FormFactors adaptive(const Scene& scene, double tol, bool visibility = true) {
-    const SceneGeometry geo(scene);
-    FormFactorOptions o;
-    o.tolerance = tol;
-    o.visibility = visibility;
-    return compute_form_factors(geo, o);
+    return compute_form_factors(SceneGeometry(scene), FormFactorOptions::adaptive(tol, visibility));
 }
 
 double err_of(const FormFactors& ff, int i, int j) { return ff.error[static_cast<std::size_t>(i) * ff.F.n + j]; }

@@ -8,6 +8,7 @@
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "solve/solver.h"
+#include "../tests/record.h"
 
 namespace radiosa {
 
@@ -24,6 +25,16 @@ Scene furnace(double rho, double emission = 1.0) {
     return parse_scene(buf, "furnace.yaml");
 }
 
+// A scene's error-controlled form factors and its patches' reflectance and emission.
+struct System {
+    FormFactors ff;
+    Materials m;
+};
+System system_of(const Scene& s, double tol) {
+    const SceneGeometry g(s);
+    return {compute_form_factors(g, FormFactorOptions::adaptive(tol)), patch_materials(s, g)};
+}
+
 struct Solved {
     std::vector<Rgb> B;
     RadiositySolver::Stability stability;
@@ -31,9 +42,7 @@ struct Solved {
 };
 
 Solved solve(const Scene& s, double tol = 1e-10) {
-    const SceneGeometry g(s);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(tol));
-    const Materials m = patch_materials(s, g);
+    const auto [ff, m] = system_of(s, tol);
     const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
     Solved out;
     out.warning = check_steady_state(solver, m.rho, m.E, s.closed, s.file);
@@ -60,7 +69,7 @@ TEST(Stiff, FurnaceAsReflectanceApproachesOne) {
         SCOPED_TRACE(c.rho);
         const Solved s = solve(furnace(c.rho));
         EXPECT_LT(max_rel_error(s.B, 1.0 / (1.0 - c.rho)), c.bound);
-        { char b[32]; std::snprintf(b, sizeof b, "%.3e", max_rel_error(s.B, 1.0 / (1.0 - c.rho))); RecordProperty("rel_error_" + std::to_string(c.rho), b); }
+        test::record(("rel_error_" + std::to_string(c.rho)).c_str(), max_rel_error(s.B, 1.0 / (1.0 - c.rho)));
         EXPECT_NEAR(s.stability.spectral_hi, c.rho, 1e-9);
         EXPECT_EQ(!s.warning.empty(), c.warns) << s.warning;
         EXPECT_GT(s.stability.condition, 0.5 / (1.0 - c.rho));  // ~ 2 / (1 - rho) for the 1-norm
@@ -69,9 +78,7 @@ TEST(Stiff, FurnaceAsReflectanceApproachesOne) {
 
 TEST(Stiff, ReflectanceOneEverywhereHasNoSteadyState) {
     const Scene s = furnace(1.0);
-    const SceneGeometry g(s);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-8));
-    const Materials m = patch_materials(s, g);
+    const auto [ff, m] = system_of(s, 1e-8);
     const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
     try {
         check_steady_state(solver, m.rho, m.E, true, "furnace.yaml");
@@ -89,9 +96,7 @@ TEST(Stiff, ReflectanceOneEverywhereHasNoSteadyState) {
 
 TEST(Extreme, EmissionOf1e30And1em30ScalesExactly) {
     const Scene base = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
-    const SceneGeometry g(base);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-4));
-    const Materials m = patch_materials(base, g);
+    const auto [ff, m] = system_of(base, 1e-4);
     const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
     const std::vector<Rgb> B = solver.solve(m.E);
     for (double k : {1e30, 1e-30}) {
@@ -126,9 +131,7 @@ TEST(Extreme, SceneScaledBy1em6And1e6HasTheSameFormFactors) {
 
 TEST(Iterative, AllMethodsAgreeWithLuOnTheSeedScene) {
     const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
-    const SceneGeometry g(s);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-4));
-    const Materials m = patch_materials(s, g);
+    const auto [ff, m] = system_of(s, 1e-4);
     const std::vector<Rgb> lu = RadiositySolver(ff.F, m.rho, SolverMethod::LU).solve(m.E);
     for (SolverMethod method : {SolverMethod::Jacobi, SolverMethod::GaussSeidel, SolverMethod::Southwell}) {
         SCOPED_TRACE(solver_method_name(method));
@@ -144,9 +147,7 @@ TEST(Iterative, AllMethodsAgreeWithLuOnTheSeedScene) {
 TEST(Iterative, NonConvergenceIsAnErrorNotAHalfAnswer) {
     // rho = 0.999999: Jacobi would need ~3e7 sweeps; the cap stops it with a clear message.
     const Scene s = furnace(0.999999);
-    const SceneGeometry g(s);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(1e-8));
-    const Materials m = patch_materials(s, g);
+    const auto [ff, m] = system_of(s, 1e-8);
     const RadiositySolver solver(ff.F, m.rho, SolverMethod::Jacobi);
     try {
         solver.solve(m.E);
@@ -157,9 +158,7 @@ TEST(Iterative, NonConvergenceIsAnErrorNotAHalfAnswer) {
     }
     // The furnace at rho = 0.9 converges to the exact answer.
     const Scene s9 = furnace(0.9);
-    const SceneGeometry g9(s9);
-    const FormFactors f9 = compute_form_factors(g9, FormFactorOptions::adaptive(1e-10));
-    const Materials m9 = patch_materials(s9, g9);
+    const auto [f9, m9] = system_of(s9, 1e-10);
     for (SolverMethod method : {SolverMethod::Jacobi, SolverMethod::GaussSeidel, SolverMethod::Southwell}) {
         const RadiositySolver solver9(f9.F, m9.rho, method);
         EXPECT_LT(max_rel_error(solver9.solve(m9.E), 10.0), 1e-10) << solver_method_name(method);
