@@ -26,7 +26,7 @@ struct Seed {
     Scene scene = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
     SceneGeometry geometry{scene};
     FormFactors ff = compute_form_factors(geometry, FormFactorOptions::adaptive(kDefaultFormFactorTolerance));
-    Materials materials = patch_materials(scene, geometry);
+    Materials materials = patch_materials(scene);
 };
 
 const Seed& seed() {

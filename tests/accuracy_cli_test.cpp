@@ -6,13 +6,12 @@
 #include <sstream>
 
 #include "app/cli.h"
-#include "render/image_io.h"
 
 namespace radiosa {
 
 namespace fs = std::filesystem;
 
-TEST(AccuracyCli, QuickStudyWritesCsvMarkdownAndPlot) {
+TEST(AccuracyCli, QuickStudyWritesCsvAndMarkdown) {
     const fs::path d = fs::temp_directory_path() / "radiosa_accuracy";
     fs::remove_all(d);
     const std::string outdir = d.string();
@@ -36,8 +35,7 @@ TEST(AccuracyCli, QuickStudyWritesCsvMarkdownAndPlot) {
     EXPECT_EQ(rows, 9 * 2 + 1);  // 9 configurations x (Gauss p = 2, adaptive 1e-3) + 32 facets
     EXPECT_EQ(adaptive_ok, 9);
     EXPECT_TRUE(fs::file_size(d / "accuracy.md") > 500);
-    const Image plot = read_image((d / "accuracy.png").string());
-    EXPECT_EQ(plot.width, 3 * 360);
+    EXPECT_FALSE(fs::exists(d / "accuracy.png"));  // plots are tools/plot-accuracy's (gnuplot), not the program's
     fs::remove_all(d);
 }
 

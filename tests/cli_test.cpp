@@ -8,7 +8,8 @@
 
 #include "app/cli.h"
 #include "cli_run.h"
-#include "render/image_io.h"
+#include "encode/encode.h"
+#include "encode/image_io.h"
 
 namespace radiosa {
 
@@ -33,10 +34,10 @@ TEST(Cli, RendersImageAndReport) {
                        "--height", "48", "--samples", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("closure max"), std::string::npos);
-    const Image png = read_image((d / "a.png").string());
+    const Image png = media::read_image((d / "a.png").string());
     EXPECT_EQ(png.width, 64);
     EXPECT_EQ(png.height, 48);
-    EXPECT_EQ(read_image((d / "a.exr").string()).width, 64);
+    EXPECT_EQ(media::read_image((d / "a.exr").string()).width, 64);
     std::ifstream in(d / "a.json");
     const nlohmann::json j = nlohmann::json::parse(in);
     EXPECT_EQ(j["patches"], 86);
@@ -62,7 +63,7 @@ TEST(Cli, PaperImagesLookRight) {
                            "--height", "128", "--samples", "1", "-q"});
         EXPECT_EQ(r.code, 0) << r.err;
         EXPECT_EQ(r.out, "");
-        return read_image((d / name).string());
+        return media::read_image((d / name).string());
     };
     const Image a = render(kScene, kCamA, "a.exr");
     const Rgb sphere = a.pixel(64, 64);
@@ -164,7 +165,7 @@ TEST(Cli, SceneWithoutEmissionRendersBlackWithoutASolve) {
     EXPECT_EQ(j["left_out"]["solve_skipped"], true);
     EXPECT_EQ(j["left_out"]["factorisations_shared"], 3);
     EXPECT_EQ(j["left_out"]["channel_solves_shared"], 3);
-    const Image img = read_image((d / "d.exr").string());
+    const Image img = media::read_image((d / "d.exr").string());
     for (float v : img.rgb) EXPECT_EQ(v, 0.0f);
     fs::remove_all(d);
 }

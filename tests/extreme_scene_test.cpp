@@ -14,7 +14,8 @@
 #include "record.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
-#include "render/image_io.h"
+#include "encode/encode.h"
+#include "encode/image_io.h"
 #include "scene/scene.h"
 #include "solve/solver.h"
 
@@ -56,7 +57,7 @@ Solution solve(const std::string& yaml) {
     Solution out{SceneGeometry(s), {}, {}, {}, {}};
     out.ff = compute_form_factors(out.geometry, FormFactorOptions::adaptive(kDefaultFormFactorTolerance));
     out.checks = check_form_factors(out.ff);
-    const Materials m = patch_materials(s, out.geometry);
+    const Materials m = patch_materials(s);
     const RadiositySolver solver(out.ff.F, m.rho, SolverMethod::LU);
     out.B = solver.solve(m.E);
     out.energy = diagnose_solution(out.ff.F, out.ff.area, m, out.B);
@@ -105,7 +106,7 @@ TEST(ExtremeScene, SphereOneTenThousandthOfTheRoomRendersAtCloseRange) {
                                       (d / "bead.exr").string(), "--width", "33", "--height", "33", "--samples", "1",
                                       "--no-cache", "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
-    const Image img = read_image((d / "bead.exr").string());
+    const Image img = media::read_image((d / "bead.exr").string());
     EXPECT_NEAR(img.pixel(16, 16).r, 1.6, 1.6e-6);
     EXPECT_NEAR(img.pixel(0, 0).r, 2.0, 2e-6);
     std::filesystem::remove_all(d);

@@ -11,12 +11,13 @@
 #include "cli_run.h"
 #include "app/sequence_job.h"
 #include "encode/features.h"
-#include "encode/frame_sink.h"
+#include "encode/encode.h"
 #include "encode/video_writer.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "render/camera.h"
-#include "render/image_io.h"
+#include "encode/encode.h"
+#include "encode/image_io.h"
 #include "render/shading.h"
 #include "scene/scene.h"
 #include "schedule/sequence.h"
@@ -57,7 +58,7 @@ TEST(SequenceCli, VideoHasTheRightFramesDurationAndRate) {
                           "--height", "48", "--samples", "1", "--report", (d / "r.json").string()});
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("12 frames at 24 fps"), std::string::npos) << r.out;
-    const VideoProbe v = probe_video(d / "v.mp4");
+    const media::VideoProbe v = media::probe_video(d / "v.mp4");
     EXPECT_EQ(v.codec, "h264");
     EXPECT_EQ(v.frames, 12);
     EXPECT_EQ(v.width, 64);
@@ -113,8 +114,8 @@ TEST(SequenceCli, PaperSequenceReproducesTable3Structure) {
               0);
     EXPECT_EQ(read_json(d / "r2.json")["frames"][0]["form_factors"], "cached");
     // Image C: the ceiling's central patch is lit, face 3 is dark.
-    const Image c = read_image((d / "2.png").string());
-    const Image a = read_image((d / "0.png").string());
+    const Image c = media::read_image((d / "2.png").string());
+    const Image a = media::read_image((d / "0.png").string());
     EXPECT_GT(c.pixel(32, 10).r, 0.99);
     EXPECT_LT(c.pixel(32, 60).r, a.pixel(32, 60).r);
     fs::remove_all(d);
@@ -151,7 +152,7 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
     const SceneGeometry g(scene);
     const FormFactors ff = compute_form_factors(
         g, resolve_form_factor_options(scene.form_factors, std::nullopt, std::nullopt, std::nullopt));
-    const Materials m = seq.materials_at(patch_materials(scene, g), g, seq.frame_time(k));
+    const Materials m = seq.materials_at(patch_materials(scene), g, seq.frame_time(k));
     const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
     const NodeRadiosity nodes(g, solver.solve(m.E), m.E);
     RenderOptions ro;
@@ -161,7 +162,7 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
     const Image alone = render_image(g, nodes, PinholeCamera(seq.camera_at(seq.frame_time(k)), 48, 40), ro);
     EXPECT_EQ(alone.rgb, two[k].rgb);
     // And the EXR frame on disk holds the same floats.
-    EXPECT_EQ(read_image(frame_path((d / "f%02d.exr").string(), k)).rgb, alone.rgb);
+    EXPECT_EQ(media::read_image(frame_path((d / "f%02d.exr").string(), k)).rgb, alone.rgb);
     fs::remove_all(d);
 }
 
@@ -228,8 +229,8 @@ TEST(SequenceCli, PaletteSequenceWritesGifAndIndexedPngsAndReportsPsnr) {
     const double mc = j["palette"]["psnr_db"]["median-cut"], pop = j["palette"]["psnr_db"]["popularity"];
     EXPECT_GT(mc, 25.0);
     EXPECT_GT(mc, pop);  // measured on the demo: 30.4 vs 23.8 dB at 16 colours
-    EXPECT_EQ(probe_video(d / "p.gif").frames, 4);
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(read_image(frame_path((d / "p%d.png").string(), k)).width, 40);
+    EXPECT_EQ(media::probe_video(d / "p.gif").frames, 4);
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(media::read_image(frame_path((d / "p%d.png").string(), k)).width, 40);
     r = run({"render", "-s", seq.string(), "--palette", "16", "-o", (d / "v.mp4").string()});
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "error: " + (d / "v.mp4").string() +

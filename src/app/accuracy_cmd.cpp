@@ -1,7 +1,6 @@
 #include "app/accuracy_cmd.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+#include <fmt/format.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -16,6 +15,8 @@
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
+#include "surfaces/quad.h"
+#include "surfaces/registry.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
@@ -91,8 +92,8 @@ void add_facets(Scene* scene, int n_az, int n_pol) {
             if (glm::dot(nrm, c) < 0.0) std::reverse(u.begin(), u.end());
             SurfaceDesc d;
             d.name = "facet" + std::to_string(scene->surfaces.size());
-            d.type = SurfaceType::Quad;
-            d.corners = {u[0], u[1], u[2], u.size() == 4 ? u[3] : u[2]};
+            d.type = find_surface_type("quad");
+            d.shape = std::make_shared<QuadSurface>(u[0], u[1], u[2], u.size() == 4 ? u[3] : u[2]);
             scene->surfaces.push_back(d);
         }
 }
@@ -205,90 +206,6 @@ std::vector<Config> configurations() {
     return c;
 }
 
-// ---- the plot ----
-
-struct Canvas {
-    int w, h;
-    std::vector<float> rgb;
-    Canvas(int width, int height) : w(width), h(height), rgb(static_cast<std::size_t>(width) * height * 3, 1.0f) {}
-    void dot(int x, int y, const Vec3& c) {
-        if (x < 0 || y < 0 || x >= w || y >= h) return;
-        float* p = &rgb[3 * (static_cast<std::size_t>(y) * w + x)];
-        p[0] = static_cast<float>(c.r);
-        p[1] = static_cast<float>(c.g);
-        p[2] = static_cast<float>(c.b);
-    }
-    void line(double x0, double y0, double x1, double y1, const Vec3& c, int thick = 1) {
-        const int n = static_cast<int>(std::max(std::abs(x1 - x0), std::abs(y1 - y0))) + 1;
-        for (int k = 0; k <= n; ++k) {
-            const double t = static_cast<double>(k) / n;
-            const int x = static_cast<int>(std::lround(x0 + t * (x1 - x0))), y = static_cast<int>(std::lround(y0 + t * (y1 - y0)));
-            for (int dx = -thick / 2; dx <= thick / 2; ++dx)
-                for (int dy = -thick / 2; dy <= thick / 2; ++dy) dot(x + dx, y + dy, c);
-        }
-    }
-    void box(int x0, int y0, int x1, int y1, const Vec3& c) {
-        for (int y = y0; y <= y1; ++y)
-            for (int x = x0; x <= x1; ++x) dot(x, y, c);
-    }
-};
-
-const Vec3 kGauss(0.15, 0.35, 0.85), kAdaptive(0.85, 0.15, 0.15), kFaceted(0.1, 0.6, 0.2), kGrid(0.85, 0.85, 0.85),
-    kAxis(0.3, 0.3, 0.3);
-
-void write_plot(const std::vector<Config>& configs, const std::vector<Row>& rows, const fs::path& path) {
-    const int cols = 3, prow = (static_cast<int>(configs.size()) + cols - 1) / cols;
-    const int pw = 360, ph = 270, mx = 50, my = 30;
-    Canvas cv(cols * pw, prow * ph + 60);
-    const double lx0 = -6, lx1 = 2, ly0 = -14, ly1 = 0;  // log10 seconds, log10 error
-    std::vector<std::pair<std::string, std::array<int, 2>>> labels;
-    for (std::size_t k = 0; k < configs.size(); ++k) {
-        const int ox = static_cast<int>(k % cols) * pw + mx, oy = static_cast<int>(k / cols) * ph + my;
-        const int w = pw - mx - 15, h = ph - my - 30;
-        auto X = [&](double s) { return ox + (std::log10(std::max(s, 1e-6)) - lx0) / (lx1 - lx0) * w; };
-        auto Y = [&](double e) { return oy + h - (std::log10(std::clamp(e, 1e-14, 1.0)) - ly0) / (ly1 - ly0) * h; };
-        for (int d = static_cast<int>(lx0); d <= lx1; ++d) cv.line(X(std::pow(10.0, d)), oy, X(std::pow(10.0, d)), oy + h, kGrid);
-        for (int d = static_cast<int>(ly0); d <= ly1; d += 2) cv.line(ox, Y(std::pow(10.0, d)), ox + w, Y(std::pow(10.0, d)), kGrid);
-        cv.line(ox, oy, ox, oy + h, kAxis);
-        cv.line(ox, oy + h, ox + w, oy + h, kAxis);
-        labels.push_back({configs[k].name, {ox, oy - 20}});
-        for (const auto& [method, colour] : {std::pair{"gauss", kGauss}, {"adaptive", kAdaptive}, {"faceted", kFaceted}}) {
-            std::vector<std::pair<double, double>> pts;
-            for (const Row& r : rows)
-                if (r.config == configs[k].name && r.method == method) pts.push_back({r.seconds, r.err.max});
-            // In the order the method was refined (p up, tolerance down, facets up).
-            for (std::size_t i = 0; i < pts.size(); ++i) {
-                cv.box(static_cast<int>(X(pts[i].first)) - 2, static_cast<int>(Y(pts[i].second)) - 2,
-                       static_cast<int>(X(pts[i].first)) + 2, static_cast<int>(Y(pts[i].second)) + 2, colour);
-                if (i) cv.line(X(pts[i - 1].first), Y(pts[i - 1].second), X(pts[i].first), Y(pts[i].second), colour, 2);
-            }
-        }
-    }
-    // Legend swatches along the bottom.
-    const int ly = prow * ph + 15;
-    cv.box(20, ly, 40, ly + 10, kGauss);
-    cv.box(260, ly, 280, ly + 10, kAdaptive);
-    cv.box(520, ly, 540, ly + 10, kFaceted);
-    OIIO::ImageBuf buf(OIIO::ImageSpec(cv.w, cv.h, 3, OIIO::TypeDesc::FLOAT), cv.rgb.data());
-    OIIO::ImageBuf img;
-    img.copy(buf);
-    // Text needs a font (fonts-dejavu-core, installed by .ci/install-deps); without one the
-    // plot is still complete and the README names the colours and axes.
-    const float black[3] = {0.1f, 0.1f, 0.1f};
-    const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-    auto text = [&](int x, int y, const std::string& t) { OIIO::ImageBufAlgo::render_text(img, x, y, t, 14, font, black); };
-    for (const auto& [t, at] : labels) text(at[0], at[1] + 12, t);
-    text(48, ly + 10, "fixed Gauss p = 1..16");
-    text(288, ly + 10, "adaptive, tolerance 1e-2..1e-10");
-    text(548, ly + 10, "sphere as 32..2048 flat facets");
-    text(20, ly + 32, "x: run time, 1e-6 .. 1e2 s; y: max error, 1e-14 .. 1; log scales, grid lines every decade (x) and two decades (y)");
-    check_output_path(path);
-    AtomicFile file(path);
-    if (!img.write(file.temp_path().string(), OIIO::TypeDesc::UINT8))
-        throw Error(path.string() + ": cannot write the plot: " + img.geterror());
-    file.commit();
-}
-
 }  // namespace
 
 void run_accuracy(const AccuracyJob& job, std::ostream& out) {
@@ -311,10 +228,9 @@ void run_accuracy(const AccuracyJob& job, std::ostream& out) {
         const Stopwatch clock;
         const FormFactors ff = compute_form_factors(g, o);
         Row r{c.name, method, param, clock.seconds(), c.error(ff, g)};
-        char buf[256];
-        std::snprintf(buf, sizeof buf, "  %-40s %-9s %-8g %9.4f s  max error %.2e  mean %.2e\n", c.name.c_str(),
-                      method.c_str(), param, r.seconds, r.err.max, r.err.mean);
-        out << buf << std::flush;
+        out << fmt::format("  {:<40} {:<9} {:<8} {:9.4f} s  max error {:.2e}  mean {:.2e}\n", c.name, method,
+                           fmt::format("{:g}", param), r.seconds, r.err.max, r.err.mean)
+            << std::flush;
         rows.push_back(r);
         return r.seconds;
     };
@@ -341,19 +257,15 @@ void run_accuracy(const AccuracyJob& job, std::ostream& out) {
     csv << "config,method,parameter,seconds,max_error,mean_error\n";
     md << "| configuration | method | parameter | seconds | max error | mean error |\n|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
-        char buf[512];
-        std::snprintf(buf, sizeof buf, "\"%s\",%s,%g,%.6g,%.6e,%.6e\n", r.config.c_str(), r.method.c_str(), r.parameter,
-                      r.seconds, r.err.max, r.err.mean);
-        csv << buf;
-        std::snprintf(buf, sizeof buf, "| %s | %s | %g | %.4f | %.2e | %.2e |\n", r.config.c_str(), r.method.c_str(),
-                      r.parameter, r.seconds, r.err.max, r.err.mean);
-        md << buf;
+        csv << fmt::format("\"{}\",{},{:g},{:.6g},{:.6e},{:.6e}\n", r.config, r.method, r.parameter, r.seconds,
+                           r.err.max, r.err.mean);
+        md << fmt::format("| {} | {} | {:g} | {:.4f} | {:.2e} | {:.2e} |\n", r.config, r.method, r.parameter,
+                          r.seconds, r.err.max, r.err.mean);
     }
     write_text_file(dir / "accuracy.csv", csv.str());
     write_text_file(dir / "accuracy.md", md.str());
-    write_plot(configs, rows, dir / "accuracy.png");
-    out << "wrote " << (dir / "accuracy.csv").string() << ", " << (dir / "accuracy.md").string() << ", "
-        << (dir / "accuracy.png").string() << "\n";
+    out << "wrote " << (dir / "accuracy.csv").string() << " and " << (dir / "accuracy.md").string()
+        << " (plot them with tools/plot-accuracy)\n";
 }
 
 }  // namespace radiosa

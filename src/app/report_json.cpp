@@ -1,6 +1,6 @@
 #include "app/report_json.h"
 
-#include <cstdio>
+#include <fmt/format.h>
 
 namespace radiosa {
 
@@ -19,17 +19,9 @@ nlohmann::json cache_outcome_json(const CacheOutcome& c) {
 }
 
 nlohmann::json form_factor_stats_json(const FormFactorStats& s) {
-    return {{"pairs", s.pairs},
-            {"pairs_culled", s.pairs_culled},
-            {"occluder_checks", s.occluder_checks},
-            {"occluders_culled", s.occluders_culled},
-            {"pairs_unoccluded", s.pairs_unoccluded},
-            {"segment_tests", s.segment_tests},
-            {"semi_analytic", s.semi_analytic},
-            {"numeric", s.numeric},
-            {"by_reciprocity", s.by_reciprocity},
-            {"regions", s.regions},
-            {"capped", s.capped}};
+    nlohmann::json j = nlohmann::json::object();
+    s.for_each_counter([&](const char* name, long long v) { j[name] = v; });
+    return j;
 }
 
 nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s, const SharedSolves& solves) {
@@ -45,10 +37,19 @@ nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& 
             {"solve_skipped", solves.skipped}};
 }
 
+nlohmann::json solve_json(SolverMethod method, const StabilitySummary& stability, double residual) {
+    using nlohmann::json;
+    return {{"method", solver_method_name(method)},
+            {"spectral_radius", stability.spectral_radius},
+            {"condition_estimate",
+             stability.condition_estimate > 0 ? json(stability.condition_estimate) : json(nullptr)},
+            {"residual", residual}};
+}
+
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
     using nlohmann::json;
-    const bool adaptive = o.tolerance > 0.0;
-    j["form_factor_method"] = adaptive ? "adaptive" : "gauss";
+    const bool adaptive = o.method == FormFactorMethod::Adaptive;
+    j["form_factor_method"] = method_name(o.method);
     j["form_factor_tolerance"] = adaptive ? json(o.tolerance) : json(nullptr);
     j["gauss_points"] = adaptive ? json(nullptr) : json(o.gauss_points);
     j["visibility"] = o.visibility;
@@ -62,18 +63,13 @@ void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c) {
 }
 
 std::string cache_outcome_summary(const CacheOutcome& c) {
-    char buf[160];
     std::string s = cache_status_name(c.status);
     switch (c.status) {
         case CacheStatus::Off: return s + (c.reason.empty() ? " (--no-cache)" : " (" + c.reason + ")");
-        case CacheStatus::Hit:
-            std::snprintf(buf, sizeof buf, " %s (loaded in %.3f s)", c.file.c_str(), c.load_s);
-            return s + buf;
+        case CacheStatus::Hit: return s + fmt::format(" {} (loaded in {:.3f} s)", c.file, c.load_s);
         case CacheStatus::Rebuilt:
         case CacheStatus::Miss:
-            std::snprintf(buf, sizeof buf, " (computed in %.3f s%s)", c.compute_s,
-                          c.written ? ", written" : ", not written");
-            s += buf;
+            s += fmt::format(" (computed in {:.3f} s{})", c.compute_s, c.written ? ", written" : ", not written");
             if (c.written) s += " " + c.file;
             if (!c.reason.empty()) s += "; " + c.reason;
             return s;

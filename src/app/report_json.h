@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cache/cache_file.h"
+#include "solve/solver.h"
 
 namespace radiosa {
 
@@ -26,6 +27,8 @@ nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& 
 // Adds form_factor_method ("adaptive" | "gauss"), form_factor_tolerance and gauss_points (the
 // one that does not apply is null) and visibility.
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);
+// "solve": {method, spectral_radius, condition_estimate (null when none), residual}.
+nlohmann::json solve_json(SolverMethod method, const StabilitySummary& stability, double residual);
 // Adds max_error_estimate, max_row_error_estimate, reciprocity_abs_error, reciprocity_vs_estimate.
 void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c);
 

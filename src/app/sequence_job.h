@@ -2,14 +2,16 @@
 // The sequence job: scene + sequence -> one form-factor matrix -> the scheduler's plan ->
 // per frame only what it needs -> video and/or numbered images, and the frame-by-frame report.
 #include <functional>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "app/form_factor_request.h"
-#include "cache/cache_file.h"
+#include "app/pipeline.h"
 #include "encode/palette.h"
+#include "render/image.h"
 #include "render/raycast.h"
 #include "schedule/scheduler.h"
 #include "solve/solver.h"
@@ -42,18 +44,16 @@ struct FrameRecord {
 };
 
 struct SequenceReport {
-    std::string scene_path, scene_name;
-    RenderOptions render;  // as resolved
-    int patches = 0, surfaces = 0, threads = 0;
+    std::string scene_path;
+    std::unique_ptr<Prepared> prep;  // scene, geometry, form factors, their cache and checks
+    RenderOptions render;            // as resolved
+    int threads = 0;
     double fps = 0;
-    FormFactorOptions ff_options;
-    CacheOutcome cache;
-    FormFactorStats form_factor_stats;
     int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0, copies = 0;
-    // Over every factorisation and solution of the plan: the worst spectral-radius bound of
-    // rho F, condition estimate (LU), residual and energy balance (closed scenes).
-    double spectral_radius = 0.0, condition_estimate = 0.0, residual = 0.0, energy_balance_error = 0.0;
-    bool closed = true;
+    // Over every factorisation and solution of the plan: the worst stability figures, residual
+    // and energy balance (closed scenes).
+    StabilitySummary stability;
+    double residual = 0.0, energy_balance_error = 0.0;
     std::vector<FrameRecord> frames;
     struct PaletteResult {
         int colours = 0;

@@ -5,10 +5,10 @@
 #include <vector>
 
 #include "app/form_factor_request.h"
-#include "cache/cache_file.h"
-#include "formfactor/form_factor.h"
+#include "app/pipeline.h"
 #include "render/raycast.h"
 #include "solve/solver.h"
+#include "util/warnings.h"
 
 namespace radiosa {
 
@@ -30,22 +30,13 @@ struct StageTimes {
 };
 
 struct StillReport {
-    std::string scene_name;
-    int surfaces = 0;
-    int patches = 0;
-    bool closed = true;
-    FormFactorOptions ff_options;
+    Prepared prep;                    // scene, geometry, form factors, their cache and checks
     int threads = 0;
-    FormFactorStats form_factor_stats;  // of the computation, stored with a cached matrix
-    CacheOutcome cache;
-    FormFactorChecks checks;
-    std::string closure_worst_patch;  // "surface[is,it]"
     int factorisations = 0;
     int channel_solves = 0;           // substitutions run; channels identical to another share one
     bool dark = false;                // no emission anywhere: no solve
     int iterations = 0;               // iterative solvers: sweeps needed
-    double spectral_radius = 0.0;     // upper bound, max over channels, of the spectral radius of rho F
-    double condition_estimate = 0.0;  // max over channels of the LU's condition estimate (0: none)
+    StabilitySummary stability;       // spectral radius of rho F and LU condition, max over channels
     SolveDiagnostics solve;
     StageTimes times;
 };

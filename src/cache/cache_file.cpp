@@ -12,9 +12,10 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "cache/bytes.h"
+#include "util/bytes.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
+#include "surfaces/registry.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
@@ -118,21 +119,16 @@ CacheKey form_factor_key(const Scene& scene, const FormFactorOptions& options) {
     w.str("radiosa form factors");
     w.u32(kFormFactorAlgorithmVersion);
     w.u32(kElementFloat64);
-    // The method: error-controlled with its tolerance, or the fixed rule with its order.
-    w.f64(options.tolerance);
-    w.u32(static_cast<std::uint32_t>(options.tolerance > 0.0 ? 0 : options.gauss_points));
+    // The method: error-controlled with its tolerance (and order 0), or the fixed rule with
+    // its order (and tolerance 0).
+    const bool adaptive = options.method == FormFactorMethod::Adaptive;
+    w.f64(adaptive ? options.tolerance : 0.0);
+    w.u32(static_cast<std::uint32_t>(adaptive ? 0 : options.gauss_points));
     w.u32(options.visibility ? 1 : 0);
     w.u64(scene.surfaces.size());
     for (const SurfaceDesc& s : scene.surfaces) {
-        w.u32(static_cast<std::uint32_t>(s.type));
-        if (s.type == SurfaceType::Quad) {
-            for (const Vec3& c : s.corners)
-                for (int k = 0; k < 3; ++k) w.f64(c[k]);
-        } else {
-            for (int k = 0; k < 3; ++k) w.f64(s.center[k]);
-            w.f64(s.radius);
-            w.u8(s.inward ? 1 : 0);
-        }
+        w.u32(s.type->key_id);
+        s.shape->write_key(w);
         w.u32(static_cast<std::uint32_t>(s.ns));
         w.u32(static_cast<std::uint32_t>(s.nt));
     }
@@ -202,12 +198,10 @@ void write_cache_file(const fs::path& path, const CacheKey& key, const std::stri
         w.u32(static_cast<std::uint32_t>(p.it));
         w.f64(p.area);
     }
-    w.u32(static_cast<std::uint32_t>(ff.gauss_points));
-    w.f64(ff.tolerance);
-    const FormFactorStats& st = ff.stats;
-    for (long long v : {st.pairs, st.pairs_culled, st.occluder_checks, st.occluders_culled, st.pairs_unoccluded,
-                        st.segment_tests, st.semi_analytic, st.numeric, st.by_reciprocity, st.regions, st.capped})
-        w.i64(v);
+    const bool adaptive = ff.options.method == FormFactorMethod::Adaptive;
+    w.u32(static_cast<std::uint32_t>(adaptive ? 0 : ff.options.gauss_points));
+    w.f64(adaptive ? ff.options.tolerance : 0.0);
+    ff.stats.for_each_counter([&](const char*, long long v) { w.i64(v); });
     w.raw(section.data(), section.size());
     w.u64(checksum(w.bytes().data(), w.bytes().size()));
     write_bytes(path, w.bytes());
@@ -279,13 +273,10 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
                     throw mismatch("patch " + std::to_string(i) + " differs");
             }
         }
-        ff.gauss_points = static_cast<int>(in.u32());
-        ff.tolerance = in.f64();
-        FormFactorStats& st = ff.stats;
-        for (long long* v : {&st.pairs, &st.pairs_culled, &st.occluder_checks, &st.occluders_culled,
-                             &st.pairs_unoccluded, &st.segment_tests, &st.semi_analytic, &st.numeric, &st.by_reciprocity,
-                             &st.regions, &st.capped})
-            *v = in.i64();
+        const int gauss_points = static_cast<int>(in.u32());
+        const double tolerance = in.f64();
+        ff.options = gauss_points > 0 ? FormFactorOptions::gauss(gauss_points) : FormFactorOptions::adaptive(tolerance);
+        ff.stats.for_each_counter([&](const char*, long long& v) { v = in.i64(); });
         if (h.stored != in.remaining() - 8)
             throw CacheFileError("matrix section is " + std::to_string(in.remaining() - 8) + " bytes, header says " +
                                  std::to_string(h.stored));

@@ -20,11 +20,11 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <string>
 
 #include "formfactor/form_factor.h"
+#include "util/warnings.h"
 
 namespace radiosa {
 
@@ -101,8 +101,6 @@ struct CacheOutcome {
     double wait_s = 0.0;     // waiting for another process computing the same matrix
     bool written = false;
 };
-
-using WarningSink = std::function<void(const std::string&)>;
 
 // Loads the matrix for this scene and these options from the cache, or computes it and stores
 // it. Damaged, stale or foreign files are reported through `warn` (one line each) and rebuilt;

@@ -1,6 +1,8 @@
 // The form-factor cache: what the key includes and leaves out, exact round trips, and every
 // kind of damaged or foreign file detected and rebuilt.
 #include "cache/cache_file.h"
+#include "surfaces/quad.h"
+#include "surfaces/sphere.h"
 
 #include <gtest/gtest.h>
 
@@ -26,10 +28,14 @@ fs::path fresh_dir(const std::string& name) {
     return d;
 }
 
-FormFactorOptions opts(int p = 6) {
-    FormFactorOptions o;
-    o.gauss_points = p;
-    return o;
+FormFactorOptions opts(int p = 6) { return FormFactorOptions::gauss(p); }
+
+// The scene with one corner of surface k (a quad) moved by d.
+Scene move_corner(Scene s, int k, int corner, const Vec3& d) {
+    auto c = dynamic_cast<const QuadSurface&>(*s.surfaces[k].shape).corners();
+    c[corner] += d;
+    s.surfaces[k].shape = std::make_shared<QuadSurface>(c[0], c[1], c[2], c[3]);
+    return s;
 }
 
 std::vector<std::uint8_t> slurp(const fs::path& p) {
@@ -78,14 +84,13 @@ TEST(CacheKey, IgnoresWhatDoesNotChangeTheMatrix) {
 TEST(CacheKey, ChangesWithGeometrySubdivisionAndSettings) {
     const Scene a = load_scene(kSeed);
     std::vector<std::string> keys{form_factor_key(a, opts()).hex()};
+    keys.push_back(form_factor_key(move_corner(a, 0, 2, Vec3(1e-9, 0, 0)), opts()).hex());  // a nanometre
     Scene b = a;
-    b.surfaces[0].corners[2].x += 1e-9;  // one vertex, by a nanometre of a 4 m room
-    keys.push_back(form_factor_key(b, opts()).hex());
-    b = a;
     b.surfaces[3].ns += 1;
     keys.push_back(form_factor_key(b, opts()).hex());
     b = a;
-    b.surfaces[6].radius = 1.0 + 1e-12;
+    const BoundingSphere ball = *b.surfaces[6].shape->sphere();
+    b.surfaces[6].shape = std::make_shared<SphereSurface>(ball.center, ball.radius + 1e-12, false);
     keys.push_back(form_factor_key(b, opts()).hex());
     keys.push_back(form_factor_key(a, opts(7)).hex());
     FormFactorOptions novis = opts();
@@ -109,7 +114,8 @@ TEST(CacheFile, RoundTripIsBitExactInBothLayouts) {
         EXPECT_EQ(back.F.data, ff.F.data);
         EXPECT_EQ(back.area, ff.area);
         EXPECT_EQ(back.error, ff.error);
-        EXPECT_EQ(back.gauss_points, 6);
+        EXPECT_EQ(back.options.method, FormFactorMethod::Fixed);
+        EXPECT_EQ(back.options.gauss_points, 6);
         EXPECT_EQ(back.stats.segment_tests, ff.stats.segment_tests);
         EXPECT_EQ(info.patches, static_cast<std::uint64_t>(g.patch_count()));
         EXPECT_EQ(read_cache_info(file).key, key);
@@ -134,9 +140,7 @@ TEST(CacheObtain, HitsWhenOnlyColoursEmissionOrNameChange) {
     EXPECT_EQ(second.ff.F.data, first.ff.F.data);
     EXPECT_EQ(second.outcome.compute_s, 0.0);
     // Geometry, subdivision or p: a different file.
-    Scene moved = a;
-    moved.surfaces[0].corners[0].z -= 1e-6;
-    EXPECT_EQ(obtain(moved, d).outcome.status, CacheStatus::Miss);
+    EXPECT_EQ(obtain(move_corner(a, 0, 0, Vec3(0, 0, -1e-6)), d).outcome.status, CacheStatus::Miss);
     EXPECT_EQ(obtain(a, d, 4).outcome.status, CacheStatus::Miss);
     int files = 0;
     for (const auto& e : fs::directory_iterator(d)) files += e.path().extension() == ".rff";

@@ -1,3 +1,5 @@
+// Part of the encode plugin: the sequence outputs (.mp4 through libav, numbered images through
+// OpenImageIO).
 #include "encode/frame_sink.h"
 
 #include <cctype>
@@ -5,10 +7,10 @@
 #include <cstdio>
 
 #include "encode/video_writer.h"
-#include "render/image_io.h"
+#include "encode/image_io.h"
 #include "util/error.h"
 
-namespace radiosa {
+namespace radiosa::media {
 
 namespace {
 
@@ -37,7 +39,7 @@ private:
 class ImageSequenceSink : public FrameSink {
 public:
     ImageSequenceSink(std::string pattern, double exposure) : m_pattern(std::move(pattern)), m_exposure(exposure) {}
-    void write(int frame, const Image& image) override { write_image(image, frame_path(m_pattern, frame), m_exposure); }
+    void write(int frame, const Image& image) override { media::write_image(image, frame_path(m_pattern, frame), m_exposure); }
     void finish() override {}
 
 private:
@@ -46,12 +48,6 @@ private:
 };
 
 }  // namespace
-
-std::string frame_path(const std::string& pattern, int frame) {
-    char buf[4096];
-    std::snprintf(buf, sizeof buf, pattern.c_str(), frame);
-    return buf;
-}
 
 void check_sequence_output(const std::string& path, int width, int height) {
     if (is_video(path)) {
@@ -77,11 +73,4 @@ std::unique_ptr<FrameSink> make_frame_sink(const std::string& path, int w, int h
     return std::make_unique<ImageSequenceSink>(path, o.exposure);
 }
 
-std::vector<unsigned char> to_srgb8(const Image& image, double exposure) {
-    const double scale = std::exp2(exposure);
-    std::vector<unsigned char> px(image.rgb.size());
-    for (std::size_t i = 0; i < px.size(); ++i) px[i] = encode_srgb8(image.rgb[i] * scale);
-    return px;
-}
-
-}  // namespace radiosa
+}  // namespace radiosa::media

@@ -2,11 +2,11 @@
 // one message naming the file and the way out (encode/features.h). Outputs are checked before
 // any work, so a run asking for them fails before anything is computed or written.
 #include "encode/features.h"
-#include "encode/palette.h"
+#include "encode/palette_av.h"
 #include "encode/video_writer.h"
 #include "util/error.h"
 
-namespace radiosa {
+namespace radiosa::media {
 
 namespace {
 [[noreturn]] void refuse(const std::string& path) { throw Error(path + ": " + kNoVideoMessage); }
@@ -30,4 +30,4 @@ GifWriter::~GifWriter() = default;
 void GifWriter::add_frame(const std::vector<std::uint8_t>&) {}
 void GifWriter::finish() {}
 
-}  // namespace radiosa
+}  // namespace radiosa::media

@@ -1,6 +1,6 @@
 // Indexed PNG frames and GIF animations through libav's png and gif encoders (built only with
 // RADIOSA_VIDEO=ON; see encode/no_video.cpp).
-#include "encode/palette.h"
+#include "encode/palette_av.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -13,21 +13,13 @@ extern "C" {
 #include <cstdint>
 
 #include "util/atomic_file.h"
+#include "encode/av_error.h"
 #include "util/error.h"
 
-namespace radiosa {
+namespace radiosa::media {
 
 namespace {
 
-std::string av_message(int code) {
-    char buf[AV_ERROR_MAX_STRING_SIZE] = {0};
-    av_strerror(code, buf, sizeof buf);
-    return buf;
-}
-int check(int status, const char* call, const std::string& path) {
-    if (status < 0) throw Error(path + ": " + call + " failed: " + av_message(status));
-    return status;
-}
 
 // An encoder context for PAL8 frames with `codec_id`, and one reusable frame.
 struct Pal8Encoder {
@@ -50,11 +42,11 @@ struct Pal8Encoder {
         ctx->pix_fmt = AV_PIX_FMT_PAL8;
         ctx->time_base = time_base;
         if (global_header) ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-        check(avcodec_open2(ctx, codec, nullptr), "avcodec_open2", path);
+        av_check(avcodec_open2(ctx, codec, nullptr), "avcodec_open2", path);
         frame->format = AV_PIX_FMT_PAL8;
         frame->width = w;
         frame->height = h;
-        check(av_frame_get_buffer(frame, 0), "av_frame_get_buffer", path);
+        av_check(av_frame_get_buffer(frame, 0), "av_frame_get_buffer", path);
         auto* pal = reinterpret_cast<std::uint32_t*>(frame->data[1]);
         for (int k = 0; k < 256; ++k) {
             const Colour8 c = k < static_cast<int>(palette.size()) ? palette[k] : Colour8{0, 0, 0};
@@ -68,15 +60,15 @@ struct Pal8Encoder {
     }
     void send(const std::vector<std::uint8_t>* index, std::int64_t pts) {
         if (!index) {
-            check(avcodec_send_frame(ctx, nullptr), "avcodec_send_frame(flush)", path);
+            av_check(avcodec_send_frame(ctx, nullptr), "avcodec_send_frame(flush)", path);
             return;
         }
-        check(av_frame_make_writable(frame), "av_frame_make_writable", path);
+        av_check(av_frame_make_writable(frame), "av_frame_make_writable", path);
         for (int y = 0; y < ctx->height; ++y)
             std::copy_n(index->data() + static_cast<std::size_t>(y) * ctx->width, ctx->width,
                         frame->data[0] + static_cast<std::size_t>(y) * frame->linesize[0]);
         frame->pts = pts;
-        check(avcodec_send_frame(ctx, frame), "avcodec_send_frame", path);
+        av_check(avcodec_send_frame(ctx, frame), "avcodec_send_frame", path);
     }
     // Calls `take` for every packet ready.
     template <class F>
@@ -84,7 +76,7 @@ struct Pal8Encoder {
         for (;;) {
             const int r = avcodec_receive_packet(ctx, packet);
             if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
-            check(r, "avcodec_receive_packet", path);
+            av_check(r, "avcodec_receive_packet", path);
             take(packet);
             av_packet_unref(packet);
         }
@@ -124,7 +116,7 @@ struct GifWriter::Impl {
         enc->drain([&](AVPacket* p) {
             av_packet_rescale_ts(p, enc->ctx->time_base, stream->time_base);
             p->stream_index = stream->index;
-            check(av_interleaved_write_frame(fmt, p), "av_interleaved_write_frame", path);
+            av_check(av_interleaved_write_frame(fmt, p), "av_interleaved_write_frame", path);
         });
     }
 };
@@ -134,17 +126,17 @@ GifWriter::GifWriter(const std::string& path, int w, int h, double fps, const st
     {
         check_output_path(path);
         const std::string temp = m->file.temp_path().string();
-        check(avformat_alloc_output_context2(&m->fmt, nullptr, "gif", temp.c_str()), "avformat_alloc_output_context2", path);
+        av_check(avformat_alloc_output_context2(&m->fmt, nullptr, "gif", temp.c_str()), "avformat_alloc_output_context2", path);
         m->stream = avformat_new_stream(m->fmt, nullptr);
         if (!m->stream) throw Error(path + ": avformat_new_stream failed");
         // GIF delays are in centiseconds.
         m->enc = std::make_unique<Pal8Encoder>(AV_CODEC_ID_GIF, w, h, AVRational{1, 100}, palette, path,
                                                (m->fmt->oformat->flags & AVFMT_GLOBALHEADER) != 0);
-        check(avcodec_parameters_from_context(m->stream->codecpar, m->enc->ctx), "avcodec_parameters_from_context", path);
+        av_check(avcodec_parameters_from_context(m->stream->codecpar, m->enc->ctx), "avcodec_parameters_from_context", path);
         m->stream->time_base = AVRational{1, 100};
-        check(avio_open(&m->fmt->pb, temp.c_str(), AVIO_FLAG_WRITE), "avio_open", path);
+        av_check(avio_open(&m->fmt->pb, temp.c_str(), AVIO_FLAG_WRITE), "avio_open", path);
         m->io_open = true;
-        check(avformat_write_header(m->fmt, nullptr), "avformat_write_header", path);
+        av_check(avformat_write_header(m->fmt, nullptr), "avformat_write_header", path);
     }
 }
 
@@ -159,10 +151,10 @@ void GifWriter::add_frame(const std::vector<std::uint8_t>& index) {
 void GifWriter::finish() {
     m->enc->send(nullptr, 0);
     m->drain();
-    check(av_write_trailer(m->fmt), "av_write_trailer", m->path);
-    check(avio_closep(&m->fmt->pb), "avio_closep", m->path);
+    av_check(av_write_trailer(m->fmt), "av_write_trailer", m->path);
+    av_check(avio_closep(&m->fmt->pb), "avio_closep", m->path);
     m->io_open = false;
     m->file.commit();
 }
 
-}  // namespace radiosa
+}  // namespace radiosa::media

@@ -7,7 +7,8 @@
 #include <filesystem>
 
 #include "encode/video_writer.h"
-#include "render/image_io.h"
+#include "encode/encode.h"
+#include "encode/image_io.h"
 
 namespace radiosa {
 
@@ -71,16 +72,12 @@ TEST(Palette, IndexedPngAndGifDecode) {
     PaletteMapper m(h.palette(16, Quantiser::MedianCut));
     const auto ix = m.map(rgb);
     write_indexed_png((d / "f.png").string(), 32, 16, ix, m.palette());
-    const Image back = read_image((d / "f.png").string());
+    const Image back = media::read_image((d / "f.png").string());
     ASSERT_EQ(back.width, 32);
     for (int i = 0; i < 32 * 16; ++i)
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(back.rgb[3 * i + k] * 255.0, m.palette()[ix[i]][k], 0.01);
-    {
-        GifWriter gif((d / "a.gif").string(), 32, 16, 10, m.palette());
-        for (int f = 0; f < 5; ++f) gif.add_frame(ix);
-        gif.finish();
-    }
-    const VideoProbe p = probe_video(d / "a.gif");
+    write_gif((d / "a.gif").string(), 32, 16, 10, m.palette(), std::vector<std::vector<std::uint8_t>>(5, ix));
+    const media::VideoProbe p = media::probe_video(d / "a.gif");
     EXPECT_EQ(p.codec, "gif");
     EXPECT_EQ(p.frames, 5);
     EXPECT_EQ(p.width, 32);

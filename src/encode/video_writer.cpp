@@ -13,27 +13,12 @@ extern "C" {
 #include <string>
 
 #include "util/atomic_file.h"
+#include "encode/av_error.h"
 #include "util/error.h"
 
-namespace radiosa {
+namespace radiosa::media {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string av_message(int code) {
-    char buf[AV_ERROR_MAX_STRING_SIZE] = {0};
-    av_strerror(code, buf, sizeof buf);
-    return buf;
-}
-
-// Throws when a libav call returned a negative status.
-int check(int status, const char* call, const fs::path& path) {
-    if (status < 0) throw Error(path.string() + ": " + call + " failed: " + av_message(status));
-    return status;
-}
-
-}  // namespace
 
 struct VideoWriter::Impl {
     fs::path path;
@@ -62,11 +47,11 @@ struct VideoWriter::Impl {
         for (;;) {
             const int r = avcodec_receive_packet(ctx, packet);
             if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
-            check(r, "avcodec_receive_packet", path);
+            av_check(r, "avcodec_receive_packet", path);
             packet->duration = 1;  // libx264 leaves it 0; one frame in the codec time base
             av_packet_rescale_ts(packet, ctx->time_base, stream->time_base);
             packet->stream_index = stream->index;
-            check(av_interleaved_write_frame(fmt, packet), "av_interleaved_write_frame", path);
+            av_check(av_interleaved_write_frame(fmt, packet), "av_interleaved_write_frame", path);
         }
     }
 };
@@ -82,7 +67,7 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoOptions& o) : m(std::m
     check_video_output(path, o.width, o.height);
     av_log_set_level(AV_LOG_ERROR);  // libx264's statistics are not for our users
     const std::string temp = m->file.temp_path().string();
-    check(avformat_alloc_output_context2(&m->fmt, nullptr, "mp4", temp.c_str()), "avformat_alloc_output_context2",
+    av_check(avformat_alloc_output_context2(&m->fmt, nullptr, "mp4", temp.c_str()), "avformat_alloc_output_context2",
           path);
     const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
     if (!codec) codec = avcodec_find_encoder(AV_CODEC_ID_H264);
@@ -108,16 +93,16 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoOptions& o) : m(std::m
     m->ctx->color_range = AVCOL_RANGE_MPEG;
     if (m->fmt->oformat->flags & AVFMT_GLOBALHEADER) m->ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     if (std::string(codec->name) == "libx264") {
-        check(av_opt_set(m->ctx->priv_data, "preset", o.preset, 0), "av_opt_set(preset)", path);
-        check(av_opt_set(m->ctx->priv_data, "crf", std::to_string(o.crf).c_str(), 0), "av_opt_set(crf)", path);
+        av_check(av_opt_set(m->ctx->priv_data, "preset", o.preset, 0), "av_opt_set(preset)", path);
+        av_check(av_opt_set(m->ctx->priv_data, "crf", std::to_string(o.crf).c_str(), 0), "av_opt_set(crf)", path);
     }
-    check(avcodec_open2(m->ctx, codec, nullptr), "avcodec_open2", path);
-    check(avcodec_parameters_from_context(m->stream->codecpar, m->ctx), "avcodec_parameters_from_context", path);
+    av_check(avcodec_open2(m->ctx, codec, nullptr), "avcodec_open2", path);
+    av_check(avcodec_parameters_from_context(m->stream->codecpar, m->ctx), "avcodec_parameters_from_context", path);
     m->stream->time_base = m->ctx->time_base;
     m->stream->avg_frame_rate = rate;
-    check(avio_open(&m->fmt->pb, temp.c_str(), AVIO_FLAG_WRITE), "avio_open", path);
+    av_check(avio_open(&m->fmt->pb, temp.c_str(), AVIO_FLAG_WRITE), "avio_open", path);
     m->io_open = true;
-    check(avformat_write_header(m->fmt, nullptr), "avformat_write_header", path);
+    av_check(avformat_write_header(m->fmt, nullptr), "avformat_write_header", path);
 
     m->frame = av_frame_alloc();
     m->packet = av_packet_alloc();
@@ -129,14 +114,14 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoOptions& o) : m(std::m
     m->frame->color_trc = AVCOL_TRC_BT709;
     m->frame->colorspace = AVCOL_SPC_BT709;
     m->frame->color_range = AVCOL_RANGE_MPEG;
-    check(av_frame_get_buffer(m->frame, 0), "av_frame_get_buffer", path);
+    av_check(av_frame_get_buffer(m->frame, 0), "av_frame_get_buffer", path);
 
     m->sws = sws_getContext(o.width, o.height, AV_PIX_FMT_RGB24, o.width, o.height, AV_PIX_FMT_YUV420P,
                             SWS_BICUBIC | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
     if (!m->sws) throw Error(path.string() + ": sws_getContext failed");
     // swscale defaults to BT.601; the stream is tagged BT.709, so convert with BT.709.
     const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-    check(sws_setColorspaceDetails(m->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16), "sws_setColorspaceDetails",
+    av_check(sws_setColorspaceDetails(m->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16), "sws_setColorspaceDetails",
           path);
 }
 
@@ -146,21 +131,21 @@ void VideoWriter::add_frame(const std::vector<std::uint8_t>& rgb) {
     const int w = m->ctx->width, h = m->ctx->height;
     if (rgb.size() != static_cast<std::size_t>(w) * h * 3)
         throw Error(m->path.string() + ": frame size does not match the video");
-    check(av_frame_make_writable(m->frame), "av_frame_make_writable", m->path);
+    av_check(av_frame_make_writable(m->frame), "av_frame_make_writable", m->path);
     const std::uint8_t* src[1] = {rgb.data()};
     const int stride[1] = {3 * w};
-    check(sws_scale(m->sws, src, stride, 0, h, m->frame->data, m->frame->linesize), "sws_scale", m->path);
+    av_check(sws_scale(m->sws, src, stride, 0, h, m->frame->data, m->frame->linesize), "sws_scale", m->path);
     m->frame->pts = m_frames++;
-    check(avcodec_send_frame(m->ctx, m->frame), "avcodec_send_frame", m->path);
+    av_check(avcodec_send_frame(m->ctx, m->frame), "avcodec_send_frame", m->path);
     m->drain();
 }
 
 void VideoWriter::finish() {
     if (m->finished) return;
-    check(avcodec_send_frame(m->ctx, nullptr), "avcodec_send_frame(flush)", m->path);
+    av_check(avcodec_send_frame(m->ctx, nullptr), "avcodec_send_frame(flush)", m->path);
     m->drain();
-    check(av_write_trailer(m->fmt), "av_write_trailer", m->path);
-    check(avio_closep(&m->fmt->pb), "avio_closep", m->path);
+    av_check(av_write_trailer(m->fmt), "av_write_trailer", m->path);
+    av_check(avio_closep(&m->fmt->pb), "avio_closep", m->path);
     m->io_open = false;
     m->file.commit();
     m->finished = true;
@@ -169,13 +154,13 @@ void VideoWriter::finish() {
 VideoProbe probe_video(const fs::path& path) {
     VideoProbe p;
     AVFormatContext* fmt = nullptr;
-    check(avformat_open_input(&fmt, path.c_str(), nullptr, nullptr), "avformat_open_input", path);
+    av_check(avformat_open_input(&fmt, path.c_str(), nullptr, nullptr), "avformat_open_input", path);
     struct Closer {
         AVFormatContext** f;
         ~Closer() { avformat_close_input(f); }
     } closer{&fmt};
-    check(avformat_find_stream_info(fmt, nullptr), "avformat_find_stream_info", path);
-    const int si = check(av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0), "av_find_best_stream", path);
+    av_check(avformat_find_stream_info(fmt, nullptr), "avformat_find_stream_info", path);
+    const int si = av_check(av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0), "av_find_best_stream", path);
     const AVStream* st = fmt->streams[si];
     p.duration_s = fmt->duration > 0 ? fmt->duration / static_cast<double>(AV_TIME_BASE) : 0.0;
     p.fps = av_q2d(st->avg_frame_rate);
@@ -191,4 +176,4 @@ VideoProbe probe_video(const fs::path& path) {
     return p;
 }
 
-}  // namespace radiosa
+}  // namespace radiosa::media

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace radiosa {
+namespace radiosa::media {
 
 struct VideoOptions {
     int width = 0, height = 0;  // both even (yuv420p)
@@ -50,4 +50,4 @@ struct VideoProbe {
 };
 VideoProbe probe_video(const std::filesystem::path& path);
 
-}  // namespace radiosa
+}  // namespace radiosa::media

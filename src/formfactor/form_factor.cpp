@@ -11,6 +11,8 @@
 #include <mutex>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "formfactor/point_polygon.h"
 #include "scene/scene.h"
 #include "geometry/scene_geometry.h"
@@ -530,17 +532,13 @@ FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactor
     const int n = geometry.patch_count();
     FormFactors ff;
     ff.F = DenseMatrix(n);
-    ff.gauss_points = options.gauss_points;
+    ff.options = options;
     for (const Patch& p : geometry.patches()) ff.area.push_back(p.area);
 
     const Integrator integrator(geometry, options);
     const AdaptiveIntegrator adaptive(geometry, options, integrator);
-    const bool controlled = options.tolerance > 0.0;
-    ff.tolerance = options.tolerance;
-    if (controlled) {
-        ff.gauss_points = 0;
-        ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
-    }
+    const bool controlled = options.method == FormFactorMethod::Adaptive;
+    if (controlled) ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
     std::mutex merge;
     FormFactorStats total;
     // Each task owns whole rows i and writes only F(i, j) and F(j, i) for j >= i, so no two
@@ -552,47 +550,50 @@ FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactor
             else integrator.row(i, &ff.F, &local);
         }
         std::lock_guard lock(merge);
-        total.pairs += local.pairs;
-        total.pairs_culled += local.pairs_culled;
-        total.occluder_checks += local.occluder_checks;
-        total.occluders_culled += local.occluders_culled;
-        total.pairs_unoccluded += local.pairs_unoccluded;
-        total.segment_tests += local.segment_tests;
-        total.semi_analytic += local.semi_analytic;
-        total.numeric += local.numeric;
-        total.by_reciprocity += local.by_reciprocity;
-        total.regions += local.regions;
-        total.capped += local.capped;
+        total += local;
     });
     ff.stats = total;
     ff.stats.seconds = clock.seconds();
     return ff;
 }
 
+FormFactorStats& FormFactorStats::operator+=(const FormFactorStats& o) {
+    // Both visits walk the same list in the same order: pair them up through a flat array.
+    std::vector<long long> add;
+    o.for_each_counter([&](const char*, long long v) { add.push_back(v); });
+    std::size_t k = 0;
+    for_each_counter([&](const char*, long long& v) { v += add[k++]; });
+    seconds += o.seconds;
+    return *this;
+}
+
+const char* method_name(FormFactorMethod m) {
+    switch (m) {
+        case FormFactorMethod::Fixed: return "gauss";
+        case FormFactorMethod::Adaptive: return "adaptive";
+    }
+    return "?";
+}
+
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, std::optional<double> tolerance,
                                               std::optional<int> gauss_points, std::optional<bool> visibility) {
     FormFactorOptions o;
+    // The command line first, then the scene file; either names one method.
+    if (gauss_points) o = FormFactorOptions::gauss(*gauss_points);
+    else if (tolerance) o = FormFactorOptions::adaptive(*tolerance);
+    else if (scene.gauss_points) o = FormFactorOptions::gauss(*scene.gauss_points);
+    else o = FormFactorOptions::adaptive(scene.tolerance.value_or(kDefaultFormFactorTolerance));
     o.visibility = visibility.value_or(scene.visibility);
-    if (gauss_points) {
-        o.tolerance = 0.0;
-        o.gauss_points = *gauss_points;
-    } else if (tolerance) {
-        o.tolerance = *tolerance;
-    } else if (scene.gauss_points > 0) {
-        o.tolerance = 0.0;
-        o.gauss_points = scene.gauss_points;
-    } else {
-        o.tolerance = scene.tolerance > 0.0 ? scene.tolerance : kDefaultFormFactorTolerance;
-    }
     return o;
 }
 
 std::string describe(const FormFactorOptions& o) {
-    char buf[64];
-    if (o.tolerance > 0.0) std::snprintf(buf, sizeof buf, "adaptive, tolerance %.0e", o.tolerance);
-    else std::snprintf(buf, sizeof buf, "Gauss p = %d (%d terms/pair)", o.gauss_points,
-                       o.gauss_points * o.gauss_points * o.gauss_points * o.gauss_points);
-    return buf;
+    const long long p = o.gauss_points;
+    switch (o.method) {
+        case FormFactorMethod::Fixed: return fmt::format("Gauss p = {} ({} terms/pair)", p, p * p * p * p);
+        case FormFactorMethod::Adaptive: return fmt::format("adaptive, tolerance {:.0e}", o.tolerance);
+    }
+    return "?";
 }
 
 FormFactorChecks check_form_factors(const FormFactors& ff) {

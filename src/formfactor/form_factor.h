@@ -6,6 +6,7 @@
 // evaluated by a tensor Gauss-Legendre rule with p points per parameter (p^4 terms).
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "util/dense_matrix.h"
@@ -14,33 +15,56 @@ namespace radiosa {
 
 class SceneGeometry;
 
+// How form factors are integrated. Reported as form_factor_method: "adaptive" | "gauss".
+enum class FormFactorMethod {
+    Fixed,     // the paper's tensor Gauss-Legendre rule, gauss_points per parameter, no estimate
+    Adaptive,  // error-controlled to `tolerance` per entry, with a stored estimate (the default)
+    // (a hierarchical method goes here: its own options below, its own branch in
+    // compute_form_factors, its name in method_name)
+};
+// "gauss" | "adaptive": the report's and the scene file's names.
+const char* method_name(FormFactorMethod m);
+
+// The default absolute tolerance on each F_ij (docs/accuracy.md).
+inline constexpr double kDefaultFormFactorTolerance = 1e-6;
+
 struct FormFactorOptions {
-    // > 0: error-controlled (the default): every pair is refined until the error estimate of
-    // A_i F_ij = A_j F_ji is below tolerance x min(A_i, A_j): an absolute tolerance on F_ij in
-    // the smaller patch's row, scaled by A_small / A_large in the larger's. 0: the paper's fixed tensor Gauss rule of
-    // gauss_points per parameter, kept for comparison (no error estimate).
-    double tolerance = 0.0;
+    FormFactorMethod method = FormFactorMethod::Adaptive;
+    // Adaptive: every pair is refined until the error estimate of A_i F_ij = A_j F_ji is below
+    // tolerance x min(A_i, A_j): an absolute tolerance on F_ij in the smaller patch's row,
+    // scaled by A_small / A_large in the larger's.
+    double tolerance = kDefaultFormFactorTolerance;
+    // Fixed: points per parameter (p^4 terms per pair). The adaptive method starts its
+    // occlusion-free pairs' base rule from it too.
     int gauss_points = 6;
     bool visibility = true;
     // Leave out the work proven useless: pairs that cannot see each other (no quadrature) and
     // surfaces that cannot come between a pair (no occlusion tests; with none left, the closed
     // form applies). false integrates every pair against every surface: a diagnostic that
-    // measures what culling saves (README, "Leaving out what a scene does not need").
+    // measures what culling saves (docs/performance.md).
     bool culling = true;
 
-    static FormFactorOptions gauss(int p, bool visibility = true) { return {0.0, p, visibility, true}; }
-    static FormFactorOptions adaptive(double tol, bool visibility = true) { return {tol, 6, visibility, true}; }
+    static FormFactorOptions gauss(int p, bool visibility = true) {
+        FormFactorOptions o;
+        o.method = FormFactorMethod::Fixed;
+        o.gauss_points = p;
+        o.visibility = visibility;
+        return o;
+    }
+    static FormFactorOptions adaptive(double tol, bool visibility = true) {
+        FormFactorOptions o;
+        o.tolerance = tol;
+        o.visibility = visibility;
+        return o;
+    }
 };
-
-// The default absolute tolerance on each F_ij (see README, "Form-factor accuracy").
-inline constexpr double kDefaultFormFactorTolerance = 1e-6;
 
 struct FormFactorSettings;
 // The options a run uses: the command line's --gauss-points (fixed rule) or --ff-tolerance,
 // else the scene's form_factors block, else error control at kDefaultFormFactorTolerance.
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, std::optional<double> tolerance,
                                               std::optional<int> gauss_points, std::optional<bool> visibility);
-// "adaptive, tolerance 1e-06" or "Gauss p = 6".
+// "adaptive, tolerance 1e-06" or "Gauss p = 6 (1296 terms/pair)".
 std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
@@ -60,7 +84,30 @@ struct FormFactorStats {
     long long by_reciprocity = 0;    // entries set from the other direction: A_i F_ij = A_j F_ji
     long long regions = 0;           // outer integration regions (refinement effort)
     long long capped = 0;            // integrals that hit the refinement limit before the tolerance
-    double seconds = 0.0;
+    double seconds = 0.0;            // not stored: equal inputs give byte-identical cache files
+
+    // Every counter with its report name, in this order: the report, the cache file and the
+    // merge of per-thread counts all use this one list (a new counter is one line here and a
+    // cache format version).
+    template <class Self, class Visitor>
+    static void for_each_counter(Self& s, Visitor&& v) {
+        v("pairs", s.pairs);
+        v("pairs_culled", s.pairs_culled);
+        v("occluder_checks", s.occluder_checks);
+        v("occluders_culled", s.occluders_culled);
+        v("pairs_unoccluded", s.pairs_unoccluded);
+        v("segment_tests", s.segment_tests);
+        v("semi_analytic", s.semi_analytic);
+        v("numeric", s.numeric);
+        v("by_reciprocity", s.by_reciprocity);
+        v("regions", s.regions);
+        v("capped", s.capped);
+    }
+    template <class Visitor>
+    void for_each_counter(Visitor&& v) { for_each_counter(*this, v); }
+    template <class Visitor>
+    void for_each_counter(Visitor&& v) const { for_each_counter(*this, v); }
+    FormFactorStats& operator+=(const FormFactorStats& o);
 };
 
 struct FormFactors {
@@ -68,8 +115,7 @@ struct FormFactors {
     std::vector<double> area;   // exact patch areas
     // Per-entry error estimates, row-major like F; empty when the method gives none.
     std::vector<double> error;
-    int gauss_points = 0;
-    double tolerance = 0.0;
+    FormFactorOptions options;  // the method and settings it was computed with
     FormFactorStats stats;
 };
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "cache/bytes.h"
+#include "util/bytes.h"
 #include "geometry/scene_geometry.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
@@ -31,7 +31,7 @@ std::string patch_table_csv(const SceneGeometry& g, const FormFactors& ff, bool 
     s << "patch,surface,is,it,area";
     const int n = ff.F.n;
     if (with_matrix)
-        for (int j = 0; j < n; ++j) s << ",\"" << patch_label(g, j) << "\"";
+        for (int j = 0; j < n; ++j) s << ",\"" << g.patch_label(j) << "\"";
     s << "\n";
     for (int i = 0; i < n; ++i) {
         const Patch& p = g.patch(i);
@@ -44,11 +44,6 @@ std::string patch_table_csv(const SceneGeometry& g, const FormFactors& ff, bool 
 }
 
 }  // namespace
-
-std::string patch_label(const SceneGeometry& g, int patch) {
-    const Patch& p = g.patch(patch);
-    return g.surface_name(p.surface) + "[" + std::to_string(p.is) + "," + std::to_string(p.it) + "]";
-}
 
 fs::path npy_patch_table_path(const fs::path& npy) {
     fs::path p = npy;

@@ -20,6 +20,4 @@ void write_matrix(const std::filesystem::path& path, const SceneGeometry& geomet
 // The sidecar patch table written next to an .npy export.
 std::filesystem::path npy_patch_table_path(const std::filesystem::path& npy);
 
-std::string patch_label(const SceneGeometry& geometry, int patch);
-
 }  // namespace radiosa

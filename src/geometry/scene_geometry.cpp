@@ -12,7 +12,7 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
     Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const auto& desc : scene.surfaces) {
         const int k = static_cast<int>(m_surfaces.size());
-        m_surfaces.push_back(make_surface(desc));
+        m_surfaces.push_back(desc.shape);
         m_names.push_back(desc.name);
         m_ns.push_back(desc.ns);
         m_nt.push_back(desc.nt);
@@ -69,6 +69,11 @@ std::optional<Hit> SceneGeometry::intersect_front(const Ray& ray) const {
         }
     }
     return hit;
+}
+
+std::string SceneGeometry::patch_label(int i) const {
+    const Patch& p = m_patches[i];
+    return m_names[p.surface] + "[" + std::to_string(p.is) + "," + std::to_string(p.it) + "]";
 }
 
 }  // namespace radiosa

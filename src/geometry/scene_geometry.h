@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/surface.h"
+#include "surfaces/surface.h"
 #include "util/math.h"
 
 namespace radiosa {
@@ -55,11 +55,13 @@ public:
     // The nearest front-facing surface point along the ray (one-sided surfaces: a ray
     // arriving from behind passes through).
     std::optional<Hit> intersect_front(const Ray& ray) const;
+    // "surface[is,it]": how reports, exports and messages name a patch.
+    std::string patch_label(int patch) const;
     // Maps surface parameters to the patch that owns them and the local (u, v).
     Hit locate(int surface, double s, double t, double dist) const;
 
 private:
-    std::vector<std::unique_ptr<Surface>> m_surfaces;
+    std::vector<std::shared_ptr<const Surface>> m_surfaces;
     std::vector<std::string> m_names;
     std::vector<int> m_ns, m_nt, m_first_patch;
     std::vector<Patch> m_patches;

@@ -5,6 +5,7 @@
 
 #include "geometry/scene_geometry.h"
 #include "render/camera.h"
+#include "render/image.h"
 #include "render/shading.h"
 
 namespace radiosa {
@@ -13,16 +14,6 @@ struct RenderOptions {
     int width = 512;
     int height = 512;
     int samples = 3;  // per axis: samples^2 rays per pixel
-};
-
-// Linear radiosity image, RGB float, row-major from the top-left pixel.
-struct Image {
-    int width = 0, height = 0;
-    std::vector<float> rgb;
-    Rgb pixel(int x, int y) const {
-        const size_t i = 3 * (static_cast<size_t>(y) * width + x);
-        return Rgb(rgb[i], rgb[i + 1], rgb[i + 2]);
-    }
 };
 
 Image render_image(const SceneGeometry& geometry, const NodeRadiosity& nodes,

@@ -6,7 +6,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "render/image_io.h"
+#include "encode/encode.h"
+#include "encode/image_io.h"
 #include "scene/scene.h"
 
 namespace radiosa {
@@ -92,14 +93,14 @@ TEST(ImageIo, PngIsSrgbAndExrIsLinear) {
     std::filesystem::create_directories(dir);
     write_image(img, (dir / "a.png").string(), 0.0);
     write_image(img, (dir / "a.exr").string(), 0.0);
-    const Image png = read_image((dir / "a.png").string());
+    const Image png = media::read_image((dir / "a.png").string());
     ASSERT_EQ(png.width, 4);
     ASSERT_EQ(png.height, 2);
     EXPECT_FLOAT_EQ(png.rgb[0], 1.0f);
     EXPECT_FLOAT_EQ(png.rgb[1], 1.0f);
     EXPECT_FLOAT_EQ(png.rgb[2], 0.0f);
     EXPECT_NEAR(png.rgb[3], 188.0 / 255.0, 1e-6);  // sRGB(0.5) = 0.7354 -> 188
-    const Image exr = read_image((dir / "a.exr").string());
+    const Image exr = media::read_image((dir / "a.exr").string());
     EXPECT_EQ(exr.rgb, img.rgb);
     EXPECT_EQ(encode_srgb8(0.0031308 / 2), std::lround(255 * 12.92 * 0.0031308 / 2));
     std::filesystem::remove_all(dir);

@@ -1,14 +1,7 @@
-// Reads camera files. The format is documented in README.md ("Camera files").
-#include <cmath>
-
+// Reads camera files. The format is documented in docs/scene-format.md ("Camera files").
 #include "scene/camera_yaml.h"
 
 namespace radiosa {
-
-Vec3 orbit_position(const Vec3& look_at, double distance, double theta_deg, double phi_deg) {
-    const double th = deg_to_rad(theta_deg), ph = deg_to_rad(phi_deg);
-    return look_at + distance * Vec3(std::sin(ph) * std::cos(th), std::sin(ph) * std::sin(th), std::cos(ph));
-}
 
 CameraDesc read_camera_fields(YamlMap& m, std::optional<OrbitParams>* orbit_out) {
     const std::string& filename = m.file();

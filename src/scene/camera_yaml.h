@@ -1,7 +1,7 @@
 #pragma once
 // Reading a camera from a YAML mapping, shared by camera files and sequence keys.
 #include "scene/camera.h"
-#include "scene/yaml_reader.h"
+#include "util/yaml_reader.h"
 
 namespace radiosa {
 

@@ -1,6 +1,7 @@
 #pragma once
 // The scene as read from a file: plain data, validated, knowing nothing of solving.
-#include <array>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -8,8 +9,6 @@
 #include "util/math.h"
 
 namespace radiosa {
-
-enum class SurfaceType { Quad, Sphere };
 
 // Emission of one patch that replaces the surface's emission there.
 struct PatchEmission {
@@ -19,21 +18,14 @@ struct PatchEmission {
     FileLoc loc;
 };
 
+struct SurfaceType;
+class Surface;
+
 struct SurfaceDesc {
     std::string name;
-    SurfaceType type = SurfaceType::Quad;
+    const SurfaceType* type = nullptr;     // from the registry (surfaces/registry.h)
+    std::shared_ptr<const Surface> shape;  // built and validated by the type's reader
     FileLoc loc;
-
-    // quad: P(s,t) is the bilinear map of four coplanar corners, P(0,0) = corners[0],
-    // P(1,0) = corners[1], P(1,1) = corners[2], P(0,1) = corners[3]. The front (lit,
-    // visible) side is the one the normal (c1 - c0) x (c3 - c0) points to.
-    std::array<Vec3, 4> corners{};
-
-    // sphere: azimuth 2 pi s around +z from +x, polar angle pi (1 - t) from +z
-    // (t = 0 south pole, t = 1 north pole). Front side outward unless `inward`.
-    Vec3 center{0.0};
-    double radius = 0.0;
-    bool inward = false;
 
     int ns = 1;  // patches along s
     int nt = 1;  // patches along t
@@ -42,10 +34,12 @@ struct SurfaceDesc {
     std::vector<PatchEmission> patch_emission;
 };
 
+// The scene file's form_factors block; what it does not give, the command line or the
+// defaults decide (formfactor/form_factor.h, resolve_form_factor_options).
 struct FormFactorSettings {
-    double tolerance = 0.0;  // absolute tolerance on each F_ij (error-controlled); 0 = not given
-    int gauss_points = 0;    // the paper's fixed rule, p points per parameter; 0 = not given
-    bool visibility = true;  // test occlusion
+    std::optional<double> tolerance;  // absolute tolerance on each F_ij (error-controlled)
+    std::optional<int> gauss_points;  // the paper's fixed rule, p points per parameter
+    bool visibility = true;           // test occlusion
 };
 
 struct Scene {
@@ -67,6 +61,15 @@ inline constexpr int kMaxPatchesPerAxis = 4096;
 inline constexpr int kMaxPatches = 20000;
 inline constexpr int kMaxGaussPoints = 64;
 inline constexpr double kMinFormFactorTolerance = 1e-12;  // below this, round-off dominates
+
+// Per-patch reflectance and emission, from the scene (patch_emission overrides included), in
+// patch order (surface by surface, s fastest). Kept apart from the geometry: colours and lights
+// change without new form factors.
+struct Materials {
+    std::vector<Rgb> rho;
+    std::vector<Rgb> E;
+};
+Materials patch_materials(const Scene& scene);
 
 Scene load_scene(const std::string& path);
 Scene parse_scene(const std::string& yaml_text, const std::string& filename);

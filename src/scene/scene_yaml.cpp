@@ -3,21 +3,10 @@
 #include <filesystem>
 
 #include "scene/scene.h"
-#include "scene/yaml_reader.h"
+#include "surfaces/registry.h"
+#include "util/yaml_reader.h"
 
 namespace radiosa {
-
-int Scene::patch_count() const {
-    int n = 0;
-    for (const auto& s : surfaces) n += s.ns * s.nt;
-    return n;
-}
-
-int Scene::find_surface(const std::string& name) const {
-    for (size_t i = 0; i < surfaces.size(); ++i)
-        if (surfaces[i].name == name) return static_cast<int>(i);
-    return -1;
-}
 
 namespace {
 
@@ -90,71 +79,7 @@ void read_patch_emission(YamlMap& m, SurfaceDesc& s) {
     }
 }
 
-// A quad must be planar and strictly convex, or its bilinear map folds over itself.
-void validate_quad(const SurfaceDesc& s, const FileLoc& where) {
-    const auto& c = s.corners;
-    double size = 0.0;
-    for (int k = 0; k < 4; ++k) size = std::max(size, glm::length(c[(k + 1) % 4] - c[k]));
-    if (!(size > 0.0)) throw Error(where, "quad '" + s.name + "' is degenerate: all corners coincide");
-    // The plane normal from the corner with the strongest turn: the diagonals' cross product
-    // would vanish for a crossed (bow-tie) quad and misreport it as collinear.
-    Vec3 n(0.0);
-    for (int k = 0; k < 4; ++k) {
-        const Vec3 nk = glm::cross(c[(k + 1) % 4] - c[k], c[(k + 3) % 4] - c[k]);
-        if (glm::length(nk) > glm::length(n)) n = nk;
-    }
-    const double nlen = glm::length(n);
-    if (nlen <= 1e-12 * size * size)
-        throw Error(where, "quad '" + s.name + "' is degenerate: its corners are collinear");
-    const Vec3 u = n / nlen;
-    const Vec3 mid = 0.25 * (c[0] + c[1] + c[2] + c[3]);
-    for (int k = 0; k < 4; ++k)
-        if (std::abs(glm::dot(c[k] - mid, u)) > 1e-9 * size)
-            throw Error(where, "quad '" + s.name + "' is not planar: corner " + std::to_string(k) +
-                                   " is off the plane of the others (split it into planar quads)");
-    for (int k = 0; k < 4; ++k) {
-        const Vec3 a = c[(k + 1) % 4] - c[k];
-        const Vec3 b = c[(k + 3) % 4] - c[k];
-        if (glm::dot(glm::cross(a, b), u) <= 1e-9 * size * size)
-            throw Error(where, "quad '" + s.name + "' is degenerate or not convex at corner " +
-                                   std::to_string(k) + " (list the corners in order around the quad)");
-    }
-}
-
-void read_quad(YamlMap& m, SurfaceDesc& s) {
-    if (m.has("corners")) {
-        if (m.has("origin") || m.has("edge_s") || m.has("edge_t"))
-            throw Error(m.key_loc("corners"), "quad '" + s.name + "': give either corners or origin + edge_s + edge_t, not both");
-        const YAML::Node list = m.required("corners");
-        if (!list.IsSequence() || list.size() != 4)
-            throw Error(loc_of(list, m.file()), "corners must be a list of 4 points [[x,y,z], ...]");
-        for (int k = 0; k < 4; ++k)
-            s.corners[k] = yaml_vec3(list[k], m.file(), "corners[" + std::to_string(k) + "]");
-    } else if (m.has("origin") || m.has("edge_s") || m.has("edge_t")) {
-        const Vec3 o = m.vec3("origin");
-        const Vec3 es = m.vec3("edge_s");
-        const Vec3 et = m.vec3("edge_t");
-        s.corners = {o, o + es, o + es + et, o + et};
-    } else {
-        throw Error(m.loc(), "quad '" + s.name + "' needs corners, or origin + edge_s + edge_t");
-    }
-    validate_quad(s, m.loc());
-}
-
-void read_sphere(YamlMap& m, SurfaceDesc& s) {
-    s.center = m.vec3("center");
-    const YAML::Node r = m.required("radius");
-    s.radius = yaml_number(r, m.file(), "radius");
-    if (!(s.radius > 0.0))
-        throw Error(loc_of(r, m.file()), "radius must be > 0, got " + r.Scalar());
-    if (auto facing = m.optional("facing")) {
-        const std::string f = yaml_string(*facing, m.file(), "facing");
-        if (f == "outward") s.inward = false;
-        else if (f == "inward") s.inward = true;
-        else throw Error(loc_of(*facing, m.file()), "facing must be 'outward' or 'inward', got '" + f + "'");
-    }
-}
-
+// The keys every surface has; the type's own keys are read by its reader (surfaces/*.cpp).
 SurfaceDesc read_surface(const YAML::Node& node, const std::string& file, int index) {
     YamlMap m(node, file, "surface #" + std::to_string(index + 1));
     SurfaceDesc s;
@@ -162,21 +87,15 @@ SurfaceDesc read_surface(const YAML::Node& node, const std::string& file, int in
     s.name = m.string("name");
     const YAML::Node type = m.required("type");
     const std::string t = yaml_string(type, file, "type");
+    s.type = find_surface_type(t);
+    if (!s.type)
+        throw Error(loc_of(type, file), "unknown surface type '" + t + "' (known: " + surface_type_names() + ")");
     read_patches(m, s);
     s.reflectance = read_reflectance(m.required("reflectance"), file);
     if (auto e = m.optional("emission")) s.emission = read_emission(*e, file);
     read_patch_emission(m, s);
-    if (t == "quad") {
-        s.type = SurfaceType::Quad;
-        read_quad(m, s);
-        m.reject_unknown_keys("name, type, corners | origin + edge_s + edge_t, patches, reflectance, emission, patch_emission");
-    } else if (t == "sphere") {
-        s.type = SurfaceType::Sphere;
-        read_sphere(m, s);
-        m.reject_unknown_keys("name, type, center, radius, facing, patches, reflectance, emission, patch_emission");
-    } else {
-        throw Error(loc_of(type, file), "unknown surface type '" + t + "' (known: quad, sphere)");
-    }
+    s.shape = s.type->read(m, s.name);
+    m.reject_unknown_keys("name, type, " + s.type->keys + ", patches, reflectance, emission, patch_emission");
     return s;
 }
 
@@ -191,11 +110,11 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
         f.gauss_points = static_cast<int>(v);
     }
     if (auto t = m.optional("tolerance")) {
-        if (f.gauss_points > 0)
+        if (f.gauss_points)
             throw Error(loc_of(*t, file), "form_factors: give tolerance (error-controlled) or gauss_points (the paper's "
                                           "fixed rule), not both");
         f.tolerance = yaml_number(*t, file, "tolerance");
-        if (!(f.tolerance >= kMinFormFactorTolerance && f.tolerance <= 0.1))
+        if (!(*f.tolerance >= kMinFormFactorTolerance && *f.tolerance <= 0.1))
             throw Error(loc_of(*t, file), "tolerance must be in [1e-12, 0.1], got " + t->Scalar());
     }
     f.visibility = m.boolean_or("visibility", true);

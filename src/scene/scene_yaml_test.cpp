@@ -3,6 +3,8 @@
 #include "formfactor/form_factor.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
+#include "surfaces/quad.h"
+#include "surfaces/registry.h"
 
 namespace radiosa {
 
@@ -65,7 +67,7 @@ TEST(SceneYaml, ReadsEveryField) {
     EXPECT_EQ(s.form_factors.gauss_points, 5);
     ASSERT_EQ(s.surfaces.size(), 3u);
     const SurfaceDesc& f = s.surfaces[0];
-    EXPECT_EQ(f.type, SurfaceType::Quad);
+    EXPECT_EQ(f.type->name, "quad");
     EXPECT_EQ(f.ns, 2);
     EXPECT_EQ(f.nt, 3);
     EXPECT_EQ(f.reflectance, Rgb(0.5, 0.25, 1.0));
@@ -75,25 +77,30 @@ TEST(SceneYaml, ReadsEveryField) {
     EXPECT_EQ(f.patch_emission[0].it, 2);
     EXPECT_EQ(f.loc.line, 5);
     const SurfaceDesc& b = s.surfaces[1];
-    EXPECT_EQ(b.type, SurfaceType::Sphere);
-    EXPECT_TRUE(b.inward);
-    EXPECT_EQ(b.radius, 2.0);
-    EXPECT_EQ(b.center, Vec3(0, 0, 5));
-    const SurfaceDesc& w = s.surfaces[2];
-    EXPECT_EQ(w.corners[2], Vec3(1, 0, 1));  // origin + edge_s + edge_t
+    EXPECT_EQ(b.type->name, "sphere");
+    EXPECT_TRUE(b.shape->sees_itself());  // inward
+    EXPECT_EQ(b.shape->sphere()->radius, 2.0);
+    EXPECT_EQ(b.shape->sphere()->center, Vec3(0, 0, 5));
+    const auto& w = dynamic_cast<const QuadSurface&>(*s.surfaces[2].shape);
+    EXPECT_EQ(w.corners()[2], Vec3(1, 0, 1));  // origin + edge_s + edge_t
     EXPECT_EQ(s.patch_count(), 6 + 32 + 1);
 }
 
 TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
     const Scene s = parse_scene(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n"), "d.yaml");
     EXPECT_EQ(s.name, "d");
-    EXPECT_EQ(s.form_factors.gauss_points, 0);  // not given: error control at the default tolerance
-    EXPECT_EQ(s.form_factors.tolerance, 0.0);
+    EXPECT_FALSE(s.form_factors.gauss_points);  // not given: error control at the default tolerance
+    EXPECT_FALSE(s.form_factors.tolerance);
     EXPECT_TRUE(s.form_factors.visibility);
     const FormFactorOptions o = resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, std::nullopt);
+    EXPECT_EQ(o.method, FormFactorMethod::Adaptive);
     EXPECT_EQ(o.tolerance, kDefaultFormFactorTolerance);
-    EXPECT_EQ(resolve_form_factor_options(s.form_factors, std::nullopt, 6, std::nullopt).tolerance, 0.0);
-    EXPECT_EQ(resolve_form_factor_options(s.form_factors, 1e-3, std::nullopt, false).tolerance, 1e-3);
+    EXPECT_EQ(resolve_form_factor_options(s.form_factors, std::nullopt, 6, std::nullopt).method,
+              FormFactorMethod::Fixed);
+    const FormFactorOptions t = resolve_form_factor_options(s.form_factors, 1e-3, std::nullopt, false);
+    EXPECT_EQ(t.method, FormFactorMethod::Adaptive);
+    EXPECT_EQ(t.tolerance, 1e-3);
+    EXPECT_FALSE(t.visibility);
     EXPECT_EQ(s.surfaces[0].emission, Rgb(0.0));
 }
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "scene/camera.h"
-#include "solve/solver.h"
+#include "scene/scene.h"
 
 namespace radiosa {
 

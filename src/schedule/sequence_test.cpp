@@ -107,7 +107,7 @@ camera:
 TEST(Sequence, EventsSetAndRamp) {
     const Scene scene = load_scene(kSeed);
     const SceneGeometry g(scene);
-    const Materials base = patch_materials(scene, g);
+    const Materials base = patch_materials(scene);
     const Sequence s = seq(std::string("fps: 10\n") + kOrbitKeys + R"(events:
   - {time_s: [1, 3], surface: face3, emission: [0, 0, 0]}
   - {time_s: [1, 3], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
@@ -180,7 +180,7 @@ Planned plan_of(const std::string& body) {
     Planned p{load_scene(kSeed), nullptr, {}};
     p.geo = std::make_unique<SceneGeometry>(p.scene);
     const Sequence s = parse_sequence(body, "s.yaml", &p.scene);
-    p.plan = plan_sequence(s, patch_materials(p.scene, *p.geo), *p.geo);
+    p.plan = plan_sequence(s, patch_materials(p.scene), *p.geo);
     return p;
 }
 std::string actions(const Plan& plan) {
@@ -237,7 +237,7 @@ TEST(Scheduler, PaperSequenceABC) {
     Planned p{load_scene(sequence_scene_path(path)), nullptr, {}};
     p.geo = std::make_unique<SceneGeometry>(p.scene);
     const Sequence s = load_sequence(path, &p.scene);
-    const Plan plan = plan_sequence(s, patch_materials(p.scene, *p.geo), *p.geo);
+    const Plan plan = plan_sequence(s, patch_materials(p.scene), *p.geo);
     EXPECT_EQ(actions(plan), "fr rr sr ");  // A: solve + render; B: render only; C: solve + render
     EXPECT_NEAR(plan.frames[1].camera.eye.x, -6.0, 1e-12);
     EXPECT_NEAR(plan.frames[2].camera.eye.x, 6.0, 1e-12);

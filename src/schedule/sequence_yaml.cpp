@@ -6,7 +6,7 @@
 
 #include "scene/camera_yaml.h"
 #include "scene/scene.h"
-#include "scene/yaml_reader.h"
+#include "util/yaml_reader.h"
 #include "schedule/sequence.h"
 
 namespace radiosa {

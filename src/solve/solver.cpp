@@ -15,23 +15,6 @@ namespace radiosa {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-Materials patch_materials(const Scene& scene, const SceneGeometry& geo) {
-    Materials m;
-    m.rho.resize(geo.patch_count());
-    m.E.resize(geo.patch_count());
-    for (int k = 0; k < geo.surface_count(); ++k) {
-        const SurfaceDesc& d = scene.surfaces[k];
-        for (int it = 0; it < d.nt; ++it)
-            for (int is = 0; is < d.ns; ++is) {
-                const int i = geo.patch_index(k, is, it);
-                m.rho[i] = d.reflectance;
-                m.E[i] = d.emission;
-            }
-        for (const auto& pe : d.patch_emission) m.E[geo.patch_index(k, pe.is, pe.it)] = pe.emission;
-    }
-    return m;
-}
-
 SolverMethod parse_solver_method(const std::string& name) {
     if (name == "lu") return SolverMethod::LU;
     if (name == "gauss-jordan") return SolverMethod::GaussJordan;
@@ -266,6 +249,13 @@ int RadiositySolver::factorisations() const {
 double RadiositySolver::factorise_seconds() const { return m->factorise_s; }
 
 const RadiositySolver::Stability& RadiositySolver::stability(int channel) const { return m->stability[m->slot[channel]]; }
+
+void StabilitySummary::add(const RadiositySolver& solver) {
+    for (int c = 0; c < 3; ++c) {
+        spectral_radius = std::max(spectral_radius, solver.stability(c).spectral_hi);
+        condition_estimate = std::max(condition_estimate, solver.stability(c).condition);
+    }
+}
 
 std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                                bool closed, const std::string& scene_file) {

@@ -4,21 +4,11 @@
 #include <string>
 #include <vector>
 
+#include "scene/scene.h"
 #include "util/dense_matrix.h"
 #include "util/math.h"
 
 namespace radiosa {
-
-struct Scene;
-class SceneGeometry;
-
-// Per-patch reflectance and emission, from the scene (patch_emission overrides included).
-// Kept apart from the geometry: colours and lights change without new form factors.
-struct Materials {
-    std::vector<Rgb> rho;
-    std::vector<Rgb> E;
-};
-Materials patch_materials(const Scene& scene, const SceneGeometry& geometry);
 
 enum class SolverMethod {
     LU,          // Eigen partial-pivoting LU; factorisation kept, a new E costs a substitution
@@ -66,6 +56,14 @@ private:
     std::unique_ptr<Impl> m;
     mutable int m_last_channel_solves = 0;
     mutable int m_last_iterations = 0;
+};
+
+// The worst stability figures over the solvers a run builds (one per reflectance set): the
+// spectral-radius bound of rho F and the LU condition estimate (0: none), max over channels.
+struct StabilitySummary {
+    double spectral_radius = 0.0;
+    double condition_estimate = 0.0;
+    void add(const RadiositySolver& solver);
 };
 
 // Refuses (throws Error naming `scene_file`) a system without a steady state — reflectance 1

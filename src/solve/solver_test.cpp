@@ -25,7 +25,7 @@ TEST(Solver, FurnaceRadiosityIsEmissionOverOneMinusRho) {
         const SceneGeometry geo(s);
         // p = 8 makes the furnace's form factors exact to rounding (see SphereInteriorIsAreaRatio).
         const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(8, true));
-        const Materials m = patch_materials(s, geo);
+        const Materials m = patch_materials(s);
         for (SolverMethod method : {SolverMethod::LU, SolverMethod::GaussJordan}) {
             const RadiositySolver solver(ff.F, m.rho, method);
             const std::vector<Rgb> B = solver.solve(m.E);
@@ -46,7 +46,7 @@ TEST(Solver, IdenticalChannelsShareOneFactorisation) {
     const Scene grey = furnace(0.5, 1.0);
     const SceneGeometry geo(grey);
     const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(2, true));
-    const Materials m = patch_materials(grey, geo);
+    const Materials m = patch_materials(grey);
     EXPECT_EQ(RadiositySolver(ff.F, m.rho, SolverMethod::LU).factorisations(), 1);
     std::vector<Rgb> rho = m.rho;
     rho[3].b = 0.25;  // blue differs on one patch
@@ -57,7 +57,7 @@ TEST(Solver, SeedSceneLuAgreesWithGaussJordanAndIsLinearInEmission) {
     const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
     const SceneGeometry geo(s);
     const FormFactors ff = compute_form_factors(geo, FormFactorOptions::gauss(4, true));
-    const Materials m = patch_materials(s, geo);
+    const Materials m = patch_materials(s);
     const RadiositySolver lu(ff.F, m.rho, SolverMethod::LU);
     EXPECT_EQ(lu.factorisations(), 2);  // sphere (0.5, 0.5, 1.0): red and green alike
     const std::vector<Rgb> B = lu.solve(m.E);
@@ -78,7 +78,7 @@ TEST(Solver, SeedSceneLuAgreesWithGaussJordanAndIsLinearInEmission) {
 TEST(Solver, PatchEmissionOverridesTheSurface) {
     const Scene s = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991-c.yaml");
     const SceneGeometry geo(s);
-    const Materials m = patch_materials(s, geo);
+    const Materials m = patch_materials(s);
     const int ceiling = s.find_surface("face6");
     int emitting = 0;
     for (int i = 0; i < geo.patch_count(); ++i)

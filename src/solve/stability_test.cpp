@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "surfaces/quad.h"
+#include "surfaces/sphere.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -32,7 +34,7 @@ struct System {
 };
 System system_of(const Scene& s, double tol) {
     const SceneGeometry g(s);
-    return {compute_form_factors(g, FormFactorOptions::adaptive(tol)), patch_materials(s, g)};
+    return {compute_form_factors(g, FormFactorOptions::adaptive(tol)), patch_materials(s)};
 }
 
 struct Solved {
@@ -117,9 +119,13 @@ TEST(Extreme, SceneScaledBy1em6And1e6HasTheSameFormFactors) {
     for (double k : {1e-6, 1e6}) {
         Scene s = base;
         for (SurfaceDesc& d : s.surfaces) {
-            for (Vec3& c : d.corners) c *= k;
-            d.center *= k;
-            d.radius *= k;
+            if (const auto* q = dynamic_cast<const QuadSurface*>(d.shape.get())) {
+                const auto& c = q->corners();
+                d.shape = std::make_shared<QuadSurface>(k * c[0], k * c[1], k * c[2], k * c[3]);
+            } else {
+                const BoundingSphere b = *d.shape->sphere();
+                d.shape = std::make_shared<SphereSurface>(k * b.center, k * b.radius, d.shape->sees_itself());
+            }
         }
         const FormFactors fk = compute_form_factors(SceneGeometry(s), FormFactorOptions::adaptive(1e-6));
         double worst = 0.0;

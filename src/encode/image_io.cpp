@@ -1,4 +1,4 @@
-#include "render/image_io.h"
+#include "encode/image_io.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -7,16 +7,11 @@
 #include <filesystem>
 #include <memory>
 
+#include "encode/encode.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 
-namespace radiosa {
-
-unsigned char encode_srgb8(double v) {
-    v = std::clamp(v, 0.0, 1.0);  // also maps NaN-free overexposure to white
-    const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-    return static_cast<unsigned char>(std::lround(255.0 * s));
-}
+namespace radiosa::media {
 
 namespace {
 std::string lower_extension(const std::string& path) {
@@ -76,4 +71,4 @@ Image read_image(const std::string& path) {
     return img;
 }
 
-}  // namespace radiosa
+}  // namespace radiosa::media

@@ -1,13 +1,14 @@
 #pragma once
-// Writing images with OpenImageIO. The format follows the file extension:
+// Part of the encode plugin (libradiosa_encode.so): stills through OpenImageIO. The rest of
+// radiosa calls them through encode/encode.h. The format follows the file extension:
 //   .exr        linear radiosity, 32-bit float, unscaled by exposure
 //   .png/.jpg/.tif/...  8-bit sRGB: value = radiosity * 2^exposure, clamped to [0, 1],
 //               then the sRGB transfer curve. Radiosity 1.0 is display white at exposure 0.
 #include <string>
 
-#include "render/raycast.h"
+#include "render/image.h"
 
-namespace radiosa {
+namespace radiosa::media {
 
 void write_image(const Image& image, const std::string& path, double exposure_stops);
 
@@ -18,7 +19,4 @@ void check_image_output(const std::string& path);
 // Reads an image back as linear-ish float RGB exactly as stored (for tests and checks).
 Image read_image(const std::string& path);
 
-// 8-bit sRGB encoding of one linear value after exposure.
-unsigned char encode_srgb8(double linear);
-
-}  // namespace radiosa
+}  // namespace radiosa::media

@@ -1,7 +1,9 @@
+#include "surfaces/quad.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "geometry/surface.h"
+#include "surfaces/registry.h"
 
 namespace radiosa {
 
@@ -10,7 +12,8 @@ double cross2(double ax, double ay, double bx, double by) { return ax * by - ay 
 }  // namespace
 
 QuadSurface::QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& c3)
-    : m_p0(c0), m_e(c1 - c0), m_f(c3 - c0), m_g(c0 - c1 + c2 - c3) {
+    : m_corners{c0, c1, c2, c3},
+      m_p0(c0), m_e(c1 - c0), m_f(c3 - c0), m_g(c0 - c1 + c2 - c3) {
     // The scene reader has checked planarity and convexity; the diagonals' cross product
     // gives the plane normal robustly for any convex quad.
     const Vec3 n = glm::normalize(glm::cross(c2 - c0, c3 - c1));
@@ -95,5 +98,85 @@ BoundingSphere QuadSurface::bound(double s0, double s1, double t0, double t1) co
     for (const auto& p : c) r = std::max(r, glm::length(p - mid));
     return {mid, r};
 }
+
+void QuadSurface::write_key(ByteWriter& w) const {
+    for (const Vec3& c : m_corners)
+        for (int k = 0; k < 3; ++k) w.f64(c[k]);
+}
+
+namespace {
+
+// A quad must be planar and strictly convex, or its bilinear map folds over itself.
+void validate_quad(const std::array<Vec3, 4>& c, const std::string& name, const FileLoc& where) {
+    double size = 0.0;
+    for (int k = 0; k < 4; ++k) size = std::max(size, glm::length(c[(k + 1) % 4] - c[k]));
+    if (!(size > 0.0)) throw Error(where, "quad '" + name + "' is degenerate: all corners coincide");
+    // The plane normal from the corner with the strongest turn: the diagonals' cross product
+    // would vanish for a crossed (bow-tie) quad and misreport it as collinear.
+    Vec3 n(0.0);
+    for (int k = 0; k < 4; ++k) {
+        const Vec3 nk = glm::cross(c[(k + 1) % 4] - c[k], c[(k + 3) % 4] - c[k]);
+        if (glm::length(nk) > glm::length(n)) n = nk;
+    }
+    const double nlen = glm::length(n);
+    if (nlen <= 1e-12 * size * size)
+        throw Error(where, "quad '" + name + "' is degenerate: its corners are collinear");
+    const Vec3 u = n / nlen;
+    const Vec3 mid = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+    for (int k = 0; k < 4; ++k)
+        if (std::abs(glm::dot(c[k] - mid, u)) > 1e-9 * size)
+            throw Error(where, "quad '" + name + "' is not planar: corner " + std::to_string(k) +
+                                   " is off the plane of the others (split it into planar quads)");
+    for (int k = 0; k < 4; ++k) {
+        const Vec3 a = c[(k + 1) % 4] - c[k];
+        const Vec3 b = c[(k + 3) % 4] - c[k];
+        if (glm::dot(glm::cross(a, b), u) <= 1e-9 * size * size)
+            throw Error(where, "quad '" + name + "' is degenerate or not convex at corner " + std::to_string(k) +
+                                   " (list the corners in order around the quad)");
+    }
+}
+
+// corners: [[x,y,z] x 4], in order around the quad: P(0,0), P(1,0), P(1,1), P(0,1); or
+// origin + edge_s + edge_t (a parallelogram). The front side is the one (c1 - c0) x (c3 - c0)
+// points to.
+std::shared_ptr<const Surface> read_quad(YamlMap& m, const std::string& name) {
+    std::array<Vec3, 4> c;
+    const bool edges = m.has("origin") || m.has("edge_s") || m.has("edge_t");
+    if (m.has("corners")) {
+        if (edges)
+            throw Error(m.key_loc("corners"),
+                        "quad '" + name + "': give either corners or origin + edge_s + edge_t, not both");
+        const YAML::Node list = m.required("corners");
+        if (!list.IsSequence() || list.size() != 4)
+            throw Error(loc_of(list, m.file()), "corners must be a list of 4 points [[x,y,z], ...]");
+        for (int k = 0; k < 4; ++k) c[k] = yaml_vec3(list[k], m.file(), "corners[" + std::to_string(k) + "]");
+    } else if (edges) {
+        const Vec3 o = m.vec3("origin");
+        const Vec3 es = m.vec3("edge_s");
+        const Vec3 et = m.vec3("edge_t");
+        c = {o, o + es, o + es + et, o + et};
+    } else {
+        throw Error(m.loc(), "quad '" + name + "' needs corners, or origin + edge_s + edge_t");
+    }
+    validate_quad(c, name, m.loc());
+    return std::make_shared<QuadSurface>(c[0], c[1], c[2], c[3]);
+}
+
+}  // namespace
+
+extern const SurfaceType kQuadType;
+const SurfaceType kQuadType = {
+    .name = "quad",
+    .key_id = 0,
+    .keys = "corners | origin + edge_s + edge_t",
+    .read = read_quad,
+    .example = {{"corners", "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]"}},
+    .variants = {{"corners", "[[-0.5, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]"},
+                 {"corners", "[[0, 0, 0], [1.5, 0, 0], [1, 1, 0], [0, 1, 0]]"},
+                 {"corners", "[[0, 0, 0], [1, 0, 0], [1.5, 1.5, 0], [0, 1, 0]]"},
+                 {"corners", "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1.5, 0]]"},
+                 {"corners", "[[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]"},
+                 {"corners", "[[0, 1, 0], [1, 1, 0], [1, 0, 0], [0, 0, 0]]"}},
+};
 
 }  // namespace radiosa

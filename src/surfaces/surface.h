@@ -1,14 +1,14 @@
 #pragma once
-// Parametric surfaces P(s, t), (s, t) in [0,1]^2, with exact partial derivatives and exact
-// ray intersection. Curved surfaces are never replaced by polygons anywhere in radiosa.
+// The interface every surface type implements: P(s, t), (s, t) in [0,1]^2, with exact partial
+// derivatives and exact ray intersection. Each type lives in its own file (quad.cpp,
+// sphere.cpp, ...) and is listed once in registry.cpp. Curved surfaces are never replaced by polygons anywhere in radiosa.
 #include <memory>
 #include <optional>
 
+#include "util/bytes.h"
 #include "util/math.h"
 
 namespace radiosa {
-
-struct SurfaceDesc;
 
 struct Plane {
     Vec3 normal;    // unit, pointing to the front side
@@ -64,56 +64,12 @@ public:
     virtual bool pole_at_t0() const { return false; }   // the whole edge t = 0 is one point
     virtual bool pole_at_t1() const { return false; }
 
+    // The bytes this surface adds to the form-factor cache key: every parameter that changes
+    // its shape, placement or orientation, exactly as given (the key test changes each one).
+    virtual void write_key(ByteWriter& w) const = 0;
+
 protected:
     double m_orientation = 1.0;
-};
-
-std::unique_ptr<Surface> make_surface(const SurfaceDesc& desc);
-
-// Bilinear map of four coplanar corners (a parallelogram when c0 + c2 = c1 + c3).
-class QuadSurface final : public Surface {
-public:
-    QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& c3);
-    Vec3 point(double s, double t) const override;
-    void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
-    std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
-                                        HitSide side) const override;
-    double area(double s0, double s1, double t0, double t1) const override;
-    BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
-    std::optional<Plane> plane() const override { return m_plane; }
-    bool chords_never_cross() const override { return true; }
-    bool front_segments_escape() const override { return true; }
-    bool sees_itself() const override { return false; }
-    // Inverse of the map for a point on the plane; nullopt when outside [0,1]^2.
-    std::optional<std::pair<double, double>> invert(const Vec3& x) const;
-
-private:
-    Vec3 m_p0, m_e, m_f, m_g;  // P = p0 + s e + t f + s t g
-    Plane m_plane;
-    Vec3 m_u, m_v;             // orthonormal in-plane axes
-};
-
-// Sphere: azimuth 2 pi s, polar angle pi (1 - t) from +z.
-class SphereSurface final : public Surface {
-public:
-    SphereSurface(const Vec3& center, double radius, bool inward);
-    Vec3 point(double s, double t) const override;
-    void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
-    std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
-                                        HitSide side) const override;
-    double area(double s0, double s1, double t0, double t1) const override;
-    BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
-    std::optional<BoundingSphere> sphere() const override { return BoundingSphere{m_center, m_radius}; }
-    bool chords_never_cross() const override { return true; }
-    bool front_segments_escape() const override { return m_orientation > 0.0; }
-    bool sees_itself() const override { return m_orientation < 0.0; }
-    bool wraps_in_s() const override { return true; }
-    bool pole_at_t0() const override { return true; }
-    bool pole_at_t1() const override { return true; }
-
-private:
-    Vec3 m_center;
-    double m_radius;
 };
 
 }  // namespace radiosa

@@ -1,8 +1,9 @@
+#include "surfaces/sphere.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "geometry/surface.h"
-#include "scene/scene.h"
+#include "surfaces/registry.h"
 
 namespace radiosa {
 
@@ -71,14 +72,46 @@ BoundingSphere SphereSurface::bound(double, double, double, double) const {
     return {m_center, m_radius};
 }
 
-std::unique_ptr<Surface> make_surface(const SurfaceDesc& d) {
-    switch (d.type) {
-        case SurfaceType::Quad:
-            return std::make_unique<QuadSurface>(d.corners[0], d.corners[1], d.corners[2], d.corners[3]);
-        case SurfaceType::Sphere:
-            return std::make_unique<SphereSurface>(d.center, d.radius, d.inward);
-    }
-    return nullptr;
+void SphereSurface::write_key(ByteWriter& w) const {
+    for (int k = 0; k < 3; ++k) w.f64(m_center[k]);
+    w.f64(m_radius);
+    w.u8(m_orientation < 0.0 ? 1 : 0);
 }
+
+namespace {
+
+// center: [x, y, z]; radius > 0; facing: outward (default) | inward (the concave side is lit
+// and visible: a dome or a room). Parametrised by azimuth 2 pi s around +z from +x and polar
+// angle pi (1 - t) from +z (t = 0 the south pole, t = 1 the north pole).
+std::shared_ptr<const Surface> read_sphere(YamlMap& m, const std::string&) {
+    const Vec3 center = m.vec3("center");
+    const YAML::Node r = m.required("radius");
+    const double radius = yaml_number(r, m.file(), "radius");
+    if (!(radius > 0.0)) throw Error(loc_of(r, m.file()), "radius must be > 0, got " + r.Scalar());
+    bool inward = false;
+    if (auto facing = m.optional("facing")) {
+        const std::string f = yaml_string(*facing, m.file(), "facing");
+        if (f != "outward" && f != "inward")
+            throw Error(loc_of(*facing, m.file()), "facing must be 'outward' or 'inward', got '" + f + "'");
+        inward = f == "inward";
+    }
+    return std::make_shared<SphereSurface>(center, radius, inward);
+}
+
+}  // namespace
+
+extern const SurfaceType kSphereType;
+const SurfaceType kSphereType = {
+    .name = "sphere",
+    .key_id = 1,
+    .keys = "center, radius, facing",
+    .read = read_sphere,
+    .example = {{"center", "[0, 0, 0]"}, {"radius", "1"}, {"facing", "outward"}},
+    .variants = {{"center", "[0.5, 0, 0]"},
+                 {"center", "[0, 0.5, 0]"},
+                 {"center", "[0, 0, 0.5]"},
+                 {"radius", "1.5"},
+                 {"facing", "inward"}},
+};
 
 }  // namespace radiosa

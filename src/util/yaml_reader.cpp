@@ -1,4 +1,4 @@
-#include "scene/yaml_reader.h"
+#include "util/yaml_reader.h"
 
 #include <algorithm>
 #include <charconv>

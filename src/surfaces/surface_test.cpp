@@ -1,4 +1,5 @@
-#include "geometry/surface.h"
+#include "surfaces/quad.h"
+#include "surfaces/sphere.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,36 @@
+#pragma once
+// The `quad` surface type: the bilinear map of four coplanar corners of a convex quadrilateral.
+#include <array>
+#include <utility>
+
+#include "surfaces/surface.h"
+
+namespace radiosa {
+
+// Bilinear map of four coplanar corners (a parallelogram when c0 + c2 = c1 + c3).
+class QuadSurface final : public Surface {
+public:
+    QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& c3);
+    Vec3 point(double s, double t) const override;
+    void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
+    std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
+                                        HitSide side) const override;
+    double area(double s0, double s1, double t0, double t1) const override;
+    BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
+    std::optional<Plane> plane() const override { return m_plane; }
+    bool chords_never_cross() const override { return true; }
+    bool front_segments_escape() const override { return true; }
+    bool sees_itself() const override { return false; }
+    void write_key(ByteWriter& w) const override;
+    const std::array<Vec3, 4>& corners() const { return m_corners; }
+    // Inverse of the map for a point on the plane; nullopt when outside [0,1]^2.
+    std::optional<std::pair<double, double>> invert(const Vec3& x) const;
+
+private:
+    std::array<Vec3, 4> m_corners;  // as given: the cache key
+    Vec3 m_p0, m_e, m_f, m_g;  // P = p0 + s e + t f + s t g
+    Plane m_plane;
+    Vec3 m_u, m_v;             // orthonormal in-plane axes
+};
+
+}  // namespace radiosa

@@ -1,0 +1,26 @@
+#include "surfaces/registry.h"
+
+namespace radiosa {
+
+// Defined in each type's own file.
+extern const SurfaceType kQuadType;
+extern const SurfaceType kSphereType;
+
+const std::vector<const SurfaceType*>& surface_types() {
+    static const std::vector<const SurfaceType*> types = {&kQuadType, &kSphereType};
+    return types;
+}
+
+const SurfaceType* find_surface_type(std::string_view name) {
+    for (const SurfaceType* t : surface_types())
+        if (t->name == name) return t;
+    return nullptr;
+}
+
+std::string surface_type_names() {
+    std::string s;
+    for (const SurfaceType* t : surface_types()) s += (s.empty() ? "" : ", ") + t->name;
+    return s;
+}
+
+}  // namespace radiosa
