@@ -42,7 +42,8 @@ void count_pairs(benchmark::State& state, const FormFactorStats& st) {
 // args: {0 = the paper's Gauss rule p = 6, 1 = error control at 1e-6} x {culling off, on}
 void FormFactors_Seed(benchmark::State& state) {
     const bool adaptive = state.range(0) == 1;
-    FormFactorOptions o = adaptive ? FormFactorOptions::adaptive(kDefaultFormFactorTolerance) : FormFactorOptions::gauss(6);
+    FormFactorOptions o =
+        adaptive ? FormFactorOptions::adaptive(kDefaultFormFactorTolerance) : FormFactorOptions::gauss(6);
     o.culling = state.range(1) == 1;
     const Seed& s = seed();  // built outside the timed loop
     FormFactorStats st;
@@ -52,7 +53,8 @@ void FormFactors_Seed(benchmark::State& state) {
         benchmark::DoNotOptimize(ff.F.data.data());
     }
     count_pairs(state, st);
-    state.SetLabel(std::string(adaptive ? "adaptive 1e-6" : "gauss p=6") + (o.culling ? ", culling" : ", no culling"));
+    state.SetLabel(std::string(adaptive ? "adaptive 1e-6" : "gauss p=6") +
+                   (o.culling ? ", culling" : ", no culling"));
 }
 // Error control without culling takes ~25 s per run (README, "Leaving out"): one iteration.
 BENCHMARK(FormFactors_Seed)->Args({0, 1})->Args({0, 0})->Args({1, 1})->Unit(benchmark::kMillisecond);
@@ -94,10 +96,12 @@ void Render_Seed(benchmark::State& state) {
     const NodeRadiosity nodes(s.geometry, solver.solve(s.materials.E), s.materials.E);
     RenderOptions ro;
     ro.width = ro.height = static_cast<int>(state.range(0));
-    const PinholeCamera cam(load_camera(RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml"), ro.width, ro.height);
+    const PinholeCamera cam(load_camera(RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml"), ro.width,
+                            ro.height);
     for (auto _ : state) benchmark::DoNotOptimize(render_image(s.geometry, nodes, cam, ro).rgb.data());
-    state.counters["rays/s"] = benchmark::Counter(static_cast<double>(ro.width) * ro.height * ro.samples * ro.samples,
-                                                  benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["rays/s"] =
+        benchmark::Counter(static_cast<double>(ro.width) * ro.height * ro.samples * ro.samples,
+                           benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(Render_Seed)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
 

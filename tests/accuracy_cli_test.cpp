@@ -35,7 +35,8 @@ TEST(AccuracyCli, QuickStudyWritesCsvAndMarkdown) {
     EXPECT_EQ(rows, 9 * 2 + 1);  // 9 configurations x (Gauss p = 2, adaptive 1e-3) + 32 facets
     EXPECT_EQ(adaptive_ok, 9);
     EXPECT_TRUE(fs::file_size(d / "accuracy.md") > 500);
-    EXPECT_FALSE(fs::exists(d / "accuracy.png"));  // plots are tools/plot-accuracy's (gnuplot), not the program's
+    EXPECT_FALSE(
+        fs::exists(d / "accuracy.png"));  // plots are tools/plot-accuracy's (gnuplot), not the program's
     fs::remove_all(d);
 }
 

@@ -19,31 +19,99 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
     };
     const std::vector<Case> cases = {
         {"empty file", std::string("", 0), "@:1:1: file is empty; expected a YAML mapping"},
-        {"malformed YAML", std::string("surfaces: [\n", 12), "@:2:1: malformed YAML: end of sequence flow not found"},
+        {"malformed YAML", std::string("surfaces: [\n", 12),
+         "@:2:1: malformed YAML: end of sequence flow not found"},
         {"binary file", std::string("\0\1\2binary", 9), "@: file is binary, not YAML text"},
-        {"missing surfaces", std::string("name: x\n", 8), "@:1:1: scene is missing the required key 'surfaces'"},
-        {"missing reflectance", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n", 115), "@:2:5: surface #1 is missing the required key 'reflectance'"},
-        {"unknown key (typo)", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emision: [1, 1, 1]\n", 171), "@:7:5: unknown key 'emision' in surface #1 (allowed: name, type, corners | origin + edge_s + edge_t, patches, reflectance, emission, patch_emission)"},
-        {"wrong type", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: many\n    reflectance: [0.5, 0.5, 0.5]\n", 146), "@:5:14: patches must be a list of 2 integers [ns, nt]"},
-        {"NaN", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [.nan, 0.5, 0.5]\n", 149), "@:6:19: reflectance[0] must be a finite number, got '.nan'"},
-        {"infinity", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, .inf, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n", 151), "@:4:41: corners[2][1] must be a finite number, got '.inf'"},
-        {"negative radius", std::string("surfaces:\n  - name: s\n    type: sphere\n    center: [0, 0, 0]\n    radius: -2\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n", 123), "@:5:13: radius must be > 0, got -2"},
-        {"zero-size quad", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [0, 0, 0], [0, 0, 0], [0, 0, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n", 148), "@:2:5: quad 'a' is degenerate: all corners coincide"},
-        {"reflectance > 1", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 1.5, 0.5]\n", 148), "@:6:24: reflectance must be in [0, 1] (a surface cannot reflect more than it receives), got 1.5"},
-        {"negative emission", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emission: [1, -1, 1]\n", 173), "@:7:19: emission must be >= 0, got -1"},
-        {"zero patches", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [0, 1]\n    reflectance: [0.5, 0.5, 0.5]\n", 148), "@:5:15: patch count must be between 1 and 4096, got 0"},
-        {"absurd patch count", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [4000, 4000]\n    reflectance: [0.5, 0.5, 0.5]\n", 154), "@:2:5: the scene has more than 20000 patches; the dense form-factor matrix would need 2048000 GB or more (use fewer patches)"},
-        {"duplicate surface name", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n", 286), "@:7:5: surface name 'a' is used twice; names must be unique"},
-        {"unknown patch in patch_emission", std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    patch_emission:\n      - patch: [3, 0]\n        emission: [1, 1, 1]\n", 218), "@:8:16: patch [3, 0] is outside surface 'a', which has patches [0..0, 0..0]"},
-        {"gauss_points and tolerance", std::string("form_factors:\n  gauss_points: 6\n  tolerance: 1e-6\nsurfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n", 198), "@:3:14: form_factors: give tolerance (error-controlled) or gauss_points (the paper's fixed rule), not both"},
+        {"missing surfaces", std::string("name: x\n", 8),
+         "@:1:1: scene is missing the required key 'surfaces'"},
+        {"missing reflectance",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [1, 1]\n",
+                     115),
+         "@:2:5: surface #1 is missing the required key 'reflectance'"},
+        {"unknown key (typo)",
+         std::string(
+             "surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, "
+             "0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emision: [1, 1, 1]\n",
+             171),
+         "@:7:5: unknown key 'emision' in surface #1 (allowed: name, type, corners | origin + edge_s + "
+         "edge_t, patches, reflectance, emission, patch_emission)"},
+        {"wrong type",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: many\n    reflectance: [0.5, 0.5, 0.5]\n",
+                     146),
+         "@:5:14: patches must be a list of 2 integers [ns, nt]"},
+        {"NaN",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [.nan, 0.5, 0.5]\n",
+                     149),
+         "@:6:19: reflectance[0] must be a finite number, got '.nan'"},
+        {"infinity",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, .inf, "
+                     "0], [0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n",
+                     151),
+         "@:4:41: corners[2][1] must be a finite number, got '.inf'"},
+        {"negative radius",
+         std::string("surfaces:\n  - name: s\n    type: sphere\n    center: [0, 0, 0]\n    radius: -2\n    "
+                     "patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                     123),
+         "@:5:13: radius must be > 0, got -2"},
+        {"zero-size quad",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [0, 0, 0], [0, 0, 0], "
+                     "[0, 0, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n",
+                     148),
+         "@:2:5: quad 'a' is degenerate: all corners coincide"},
+        {"reflectance > 1",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 1.5, 0.5]\n",
+                     148),
+         "@:6:24: reflectance must be in [0, 1] (a surface cannot reflect more than it receives), got 1.5"},
+        {"negative emission",
+         std::string(
+             "surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, "
+             "0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emission: [1, -1, 1]\n",
+             173),
+         "@:7:19: emission must be >= 0, got -1"},
+        {"zero patches",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [0, 1]\n    reflectance: [0.5, 0.5, 0.5]\n",
+                     148),
+         "@:5:15: patch count must be between 1 and 4096, got 0"},
+        {"absurd patch count",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [4000, 4000]\n    reflectance: [0.5, 0.5, 0.5]\n",
+                     154),
+         "@:2:5: the scene has more than 20000 patches; the dense form-factor matrix would need 2048000 GB "
+         "or more (use fewer patches)"},
+        {"duplicate surface name",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n  - name: a\n    "
+                     "type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: "
+                     "[1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n",
+                     286),
+         "@:7:5: surface name 'a' is used twice; names must be unique"},
+        {"unknown patch in patch_emission",
+         std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
+                     "[0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    "
+                     "patch_emission:\n      - patch: [3, 0]\n        emission: [1, 1, 1]\n",
+                     218),
+         "@:8:16: patch [3, 0] is outside surface 'a', which has patches [0..0, 0..0]"},
+        {"gauss_points and tolerance",
+         std::string("form_factors:\n  gauss_points: 6\n  tolerance: 1e-6\nsurfaces:\n  - name: a\n    type: "
+                     "quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n    patches: [1, 1]\n "
+                     "   reflectance: [0.5, 0.5, 0.5]\n",
+                     198),
+         "@:3:14: form_factors: give tolerance (error-controlled) or gauss_points (the paper's fixed rule), "
+         "not both"},
     };
     const fs::path d = test::fresh_dir("radiosa_bad_input");
     const std::string file = (d / "case.yaml").string(), out = (d / "x.png").string();
     for (const Case& c : cases) {
         SCOPED_TRACE(c.what);
         std::ofstream(file, std::ios::binary | std::ios::trunc) << c.text;
-        const test::CliRun r = test::run({"render", file, "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml", "-o",
-                                          out, "--no-cache", "--width", "8", "--height", "8"});
+        const test::CliRun r =
+            test::run({"render", file, "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml", "-o", out,
+                       "--no-cache", "--width", "8", "--height", "8"});
         std::string expected = "error: " + c.message + "\n";
         expected.replace(expected.find('@'), 1, file);
         EXPECT_EQ(r.code, 1);
@@ -56,7 +124,8 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
         const std::string block(1 << 20, '#');
         for (int k = 0; k < 100; ++k) big << block;
     }
-    const test::CliRun r = test::run({"render", file, "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml", "-o", out});
+    const test::CliRun r =
+        test::run({"render", file, "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml", "-o", out});
     EXPECT_EQ(r.code, 1);
     EXPECT_EQ(r.err, "error: " + file + ": file is 100 MiB; input files are limited to 16 MiB\n");
     fs::remove_all(d);

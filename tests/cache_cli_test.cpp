@@ -36,7 +36,8 @@ std::vector<double> read_npy(const fs::path& p, int* rows, int* cols) {
     std::ifstream in(p, std::ios::binary);
     std::string bytes{std::istreambuf_iterator<char>(in), {}};
     EXPECT_EQ(bytes.substr(0, 8), std::string("\x93NUMPY\x01\x00", 8));
-    const std::size_t hlen = static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
+    const std::size_t hlen =
+        static_cast<unsigned char>(bytes[8]) | (static_cast<unsigned char>(bytes[9]) << 8);
     EXPECT_EQ((10 + hlen) % 64, 0u);
     const std::string header = bytes.substr(10, hlen);
     EXPECT_NE(header.find("'descr': '<f8'"), std::string::npos);
@@ -54,8 +55,8 @@ TEST(CacheCli, SecondRenderHitsAndReportsIt) {
     const fs::path d = fresh_dir("radiosa_cachecli_hit");
     const std::string cache = (d / "cache").string();
     auto render = [&](const std::string& report) {
-        return run({"render", kScene, "-c", kCamA, "-o", (d / "a.png").string(), "--width", "32", "--height", "32",
-                    "--samples", "1", "--cache-dir", cache, "--report", (d / report).string()});
+        return run({"render", kScene, "-c", kCamA, "-o", (d / "a.png").string(), "--width", "32", "--height",
+                    "32", "--samples", "1", "--cache-dir", cache, "--report", (d / report).string()});
     };
     CliRun r = render("1.json");
     ASSERT_EQ(r.code, 0) << r.err;
@@ -124,7 +125,8 @@ TEST(CacheCli, FormfactorsExportsNpyAndCsv) {
     EXPECT_EQ(n, 86);
     r = run({"formfactors", kScene, "-m", (d / "F.txt").string()});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: " + (d / "F.txt").string() + ": unknown matrix format '.txt' (use .csv or .npy)\n");
+    EXPECT_EQ(r.err,
+              "error: " + (d / "F.txt").string() + ": unknown matrix format '.txt' (use .csv or .npy)\n");
     fs::remove_all(d);
 }
 
@@ -174,7 +176,8 @@ TEST(CacheCli, DamagedFileWarnsOnStderrAndRenders) {
 TEST(CacheCli, ConcurrentProcessesOnAColdCache) {
     const fs::path d = fresh_dir("radiosa_cachecli_race");
     const std::string cache = (d / "c").string();
-    const std::string cmd = std::string(RADIOSA_BINARY) + " formfactors " + kScene + " -p 12 -q --cache-dir " + cache;
+    const std::string cmd =
+        std::string(RADIOSA_BINARY) + " formfactors " + kScene + " -p 12 -q --cache-dir " + cache;
     const std::string both = cmd + " --report " + (d / "1.json").string() + " & a=$!; " + cmd + " --report " +
                              (d / "2.json").string() + " & b=$!; wait $a && wait $b";
     ASSERT_EQ(std::system(("bash -c '" + both + "'").c_str()), 0);

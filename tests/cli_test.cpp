@@ -1,4 +1,6 @@
 // End to end through the command line, in-process: exit codes, messages, outputs, report.
+#include "app/cli.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -6,7 +8,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/cli.h"
 #include "cli_run.h"
 #include "encode/encode.h"
 #include "encode/image_io.h"
@@ -29,9 +30,9 @@ const std::string kCamB = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-b.yaml";
 
 TEST(Cli, RendersImageAndReport) {
     const fs::path d = fresh_dir("radiosa_cli_render");
-    const CliRun r = run({"render", kScene, "--camera", kCamA, "-o", (d / "a.png").string(), "-o",
-                       (d / "a.exr").string(), "--report", (d / "a.json").string(), "--width", "64",
-                       "--height", "48", "--samples", "2"});
+    const CliRun r =
+        run({"render", kScene, "--camera", kCamA, "-o", (d / "a.png").string(), "-o", (d / "a.exr").string(),
+             "--report", (d / "a.json").string(), "--width", "64", "--height", "48", "--samples", "2"});
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("closure max"), std::string::npos);
     const Image png = media::read_image((d / "a.png").string());
@@ -44,7 +45,8 @@ TEST(Cli, RendersImageAndReport) {
     EXPECT_EQ(j["form_factor_method"], "adaptive");
     EXPECT_EQ(j["form_factor_tolerance"], 1e-6);
     EXPECT_TRUE(j["gauss_points"].is_null());
-    for (const char* k : {"form_factors_s", "solve_s", "render_s", "total_s"}) EXPECT_GE(j["timings"][k].get<double>(), 0.0);
+    for (const char* k : {"form_factors_s", "solve_s", "render_s", "total_s"})
+        EXPECT_GE(j["timings"][k].get<double>(), 0.0);
     EXPECT_LT(j["reciprocity_abs_error"].get<double>(), 1e-6);
     EXPECT_LT(j["reciprocity_vs_estimate"].get<double>(), 1.0);
     EXPECT_LT(j["closure_max_error"].get<double>(), 1e-6);
@@ -60,7 +62,7 @@ TEST(Cli, PaperImagesLookRight) {
     const fs::path d = fresh_dir("radiosa_cli_abc");
     auto render = [&](const std::string& scene, const std::string& cam, const std::string& name) {
         const CliRun r = run({"render", scene, "--camera", cam, "-o", (d / name).string(), "--width", "128",
-                           "--height", "128", "--samples", "1", "-q"});
+                              "--height", "128", "--samples", "1", "-q"});
         EXPECT_EQ(r.code, 0) << r.err;
         EXPECT_EQ(r.out, "");
         return media::read_image((d / name).string());
@@ -101,12 +103,15 @@ TEST(Cli, BadInputGivesOneMessageAndExitCodeOne) {
 TEST(Cli, UnwritableOutputFailsBeforeAnyWork) {
     CliRun r = run({"render", kScene, "--camera", kCamA, "-o", "/nonexistent-radiosa/a.png"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err,
-              "error: /nonexistent-radiosa/a.png: directory '/nonexistent-radiosa' does not exist (create it or "
-              "choose another output path)\n");
-    r = run({"render", kScene, "--camera", kCamA, "-o", "/tmp/a.unknownformat", "--report", "/tmp/a-unknown.json"});
+    EXPECT_EQ(
+        r.err,
+        "error: /nonexistent-radiosa/a.png: directory '/nonexistent-radiosa' does not exist (create it or "
+        "choose another output path)\n");
+    r = run({"render", kScene, "--camera", kCamA, "-o", "/tmp/a.unknownformat", "--report",
+             "/tmp/a-unknown.json"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: /tmp/a.unknownformat: no image writer for '.unknownformat' (use .png or .exr)\n");
+    EXPECT_EQ(r.err,
+              "error: /tmp/a.unknownformat: no image writer for '.unknownformat' (use .png or .exr)\n");
     EXPECT_FALSE(fs::exists("/tmp/a-unknown.json"));  // refused before any work
     EXPECT_FALSE(fs::exists("/tmp/a.unknownformat"));
 }
@@ -125,24 +130,32 @@ TEST(Cli, NoSteadyStateIsRefusedAndNearSingularWarns) {
     const fs::path d = fresh_dir("radiosa_cli_furnace");
     auto furnace = [&](const std::string& rho) {
         const fs::path p = d / ("f" + rho + ".yaml");
-        std::ofstream(p) << "closed: true\nform_factors:\n  tolerance: 1e-8\nsurfaces:\n  - name: shell\n    type: sphere\n"
+        std::ofstream(p) << "closed: true\nform_factors:\n  tolerance: 1e-8\nsurfaces:\n  - name: shell\n    "
+                            "type: sphere\n"
                             "    center: [0, 0, 0]\n    radius: 1\n    facing: inward\n    patches: [8, 4]\n"
-                            "    reflectance: [" << rho << ", " << rho << ", " << rho << "]\n    emission: [1, 1, 1]\n";
+                            "    reflectance: ["
+                         << rho << ", " << rho << ", " << rho << "]\n    emission: [1, 1, 1]\n";
         return p.string();
     };
     const std::string cam = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
     const std::string one = furnace("1");
-    CliRun r = run({"render", one, "-c", cam, "-o", (d / "x.png").string(), "--no-cache", "--width", "8", "--height", "8"});
+    CliRun r = run({"render", one, "-c", cam, "-o", (d / "x.png").string(), "--no-cache", "--width", "8",
+                    "--height", "8"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: " + one + ": every reflectance is 1 in the red channel of a closed scene: light is never "
-                     "absorbed, so radiosity grows without bound and there is no steady state (make some reflectance "
-                     "< 1, or the scene open)\n");
+    EXPECT_EQ(
+        r.err,
+        "error: " + one +
+            ": every reflectance is 1 in the red channel of a closed scene: light is never "
+            "absorbed, so radiosity grows without bound and there is no steady state (make some reflectance "
+            "< 1, or the scene open)\n");
     EXPECT_FALSE(fs::exists(d / "x.png"));
     const std::string near = furnace("0.9995");
-    r = run({"render", near, "-c", cam, "-o", (d / "y.exr").string(), "--no-cache", "--width", "8", "--height", "8",
-             "-q"});
+    r = run({"render", near, "-c", cam, "-o", (d / "y.exr").string(), "--no-cache", "--width", "8",
+             "--height", "8", "-q"});
     EXPECT_EQ(r.code, 0);
-    EXPECT_EQ(r.err.rfind("warning: " + near + ": nearly singular radiosity system in the red channel", 0), 0u) << r.err;
+    EXPECT_EQ(r.err.rfind("warning: " + near + ": nearly singular radiosity system in the red channel", 0),
+              0u)
+        << r.err;
     fs::remove_all(d);
 }
 
@@ -155,9 +168,10 @@ TEST(Cli, SceneWithoutEmissionRendersBlackWithoutASolve) {
     std::ofstream(d / "dark.yaml") << "closed: false\nsurfaces:\n  - name: floor\n    type: quad\n"
                                       "    corners: [[-2, -2, -1], [2, -2, -1], [2, 2, -1], [-2, 2, -1]]\n"
                                       "    patches: [2, 2]\n    reflectance: [0.5, 0.5, 0.5]\n";
-    const CliRun r = run({"render", (d / "dark.yaml").string(), "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml", "-o",
-                          (d / "d.exr").string(), "--report", (d / "r.json").string(), "--width", "16", "--height",
-                          "16", "--no-cache", "-q"});
+    const CliRun r =
+        run({"render", (d / "dark.yaml").string(), "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml",
+             "-o", (d / "d.exr").string(), "--report", (d / "r.json").string(), "--width", "16", "--height",
+             "16", "--no-cache", "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     const auto j = read_json(d / "r.json");
     EXPECT_EQ(j["solve"]["factorisations"], 0);

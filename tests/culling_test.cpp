@@ -51,9 +51,10 @@ TEST(Culling, ChangesTheWorkNotTheMatrix) {
 // computed pair takes the closed-form inner integral.
 TEST(Culling, ConvexSceneNeedsNoOcclusionTests) {
     std::string yaml = "closed: true\nsurfaces:\n";
-    const char* faces[] = {"[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]", "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]",
-                           "[[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]", "[[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]",
-                           "[[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]]", "[[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]]"};
+    const char* faces[] = {
+        "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]", "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]",
+        "[[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]", "[[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]",
+        "[[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]]", "[[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]]"};
     for (int k = 0; k < 6; ++k)
         yaml += "  - name: f" + std::to_string(k) + "\n    type: quad\n    corners: " + faces[k] +
                 "\n    patches: [2, 2]\n    reflectance: [0.5, 0.5, 0.5]\n";
@@ -74,8 +75,9 @@ TEST(Culling, ConvexSceneNeedsNoOcclusionTests) {
 TEST(Culling, ReportCountsWhatWasLeftOut) {
     const fs::path d = fresh_dir("radiosa_culling_report");
     const std::string cam = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
-    CliRun r = run({"render", test::kSeedScene, "-c", cam, "-o", (d / "a.png").string(), "--width", "16", "--height",
-                    "16", "-p", "3", "--report", (d / "on.json").string(), "--cache-dir", (d / "cache").string(), "-q"});
+    CliRun r = run({"render", test::kSeedScene, "-c", cam, "-o", (d / "a.png").string(), "--width", "16",
+                    "--height", "16", "-p", "3", "--report", (d / "on.json").string(), "--cache-dir",
+                    (d / "cache").string(), "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     auto j = read_json(d / "on.json")["left_out"];
     EXPECT_EQ(j["culling"], true);
@@ -90,8 +92,9 @@ TEST(Culling, ReportCountsWhatWasLeftOut) {
     EXPECT_EQ(j["solve_skipped"], false);
 
     fs::remove_all(d / "cache");
-    r = run({"render", test::kSeedScene, "-c", cam, "-o", (d / "a.png").string(), "--width", "16", "--height", "16",
-             "-p", "3", "--no-culling", "--report", (d / "off.json").string(), "--cache-dir", (d / "cache").string(), "-q"});
+    r = run({"render", test::kSeedScene, "-c", cam, "-o", (d / "a.png").string(), "--width", "16", "--height",
+             "16", "-p", "3", "--no-culling", "--report", (d / "off.json").string(), "--cache-dir",
+             (d / "cache").string(), "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     const auto off = read_json(d / "off.json");
     EXPECT_EQ(off["left_out"]["culling"], false);

@@ -11,11 +11,11 @@
 #include <string>
 
 #include "cli_run.h"
-#include "record.h"
-#include "formfactor/form_factor.h"
-#include "geometry/scene_geometry.h"
 #include "encode/encode.h"
 #include "encode/image_io.h"
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "record.h"
 #include "scene/scene.h"
 #include "solve/solver.h"
 
@@ -29,7 +29,8 @@ std::string unit_cube(int n, const std::string& rho, const std::string& emission
         const char *name, *corners;
     };
     char floor[160];
-    std::snprintf(floor, sizeof floor, "[[0, 0, 0], [%.17g, 0, 0], [%.17g, 1, 0], [0, 1, 0]]", floor_x1, floor_x1);
+    std::snprintf(floor, sizeof floor, "[[0, 0, 0], [%.17g, 0, 0], [%.17g, 1, 0], [0, 1, 0]]", floor_x1,
+                  floor_x1);
     const Face faces[] = {{"floor", floor},
                           {"ceiling", "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]"},
                           {"south", "[[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]"},
@@ -38,9 +39,9 @@ std::string unit_cube(int n, const std::string& rho, const std::string& emission
                           {"east", "[[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]]"}};
     std::string out;
     for (const Face& f : faces)
-        out += std::string("  - name: ") + f.name + "\n    type: quad\n    corners: " + f.corners + "\n    patches: [" +
-               std::to_string(n) + ", " + std::to_string(n) + "]\n    reflectance: " + rho +
-               "\n    emission: " + emission + "\n";
+        out += std::string("  - name: ") + f.name + "\n    type: quad\n    corners: " + f.corners +
+               "\n    patches: [" + std::to_string(n) + ", " + std::to_string(n) +
+               "]\n    reflectance: " + rho + "\n    emission: " + emission + "\n";
     return out;
 }
 
@@ -78,9 +79,10 @@ double point_to_corner_rectangle(double a, double b, double c) {
 // the room's view, so the walls stay at E / (1 - rho) = 2 and every sphere patch, which sees
 // only walls, is at 0.8 x 2 = 1.6.
 TEST(ExtremeScene, SphereOneTenThousandthOfTheRoom) {
-    const Solution s = solve("closed: true\nsurfaces:\n" + unit_cube(2, "[0.5, 0.5, 0.5]", "[1, 1, 1]") +
-                             "  - name: bead\n    type: sphere\n    center: [0.5, 0.5, 0.5]\n    radius: 5e-5\n"
-                             "    patches: [8, 4]\n    reflectance: [0.8, 0.8, 0.8]\n");
+    const Solution s =
+        solve("closed: true\nsurfaces:\n" + unit_cube(2, "[0.5, 0.5, 0.5]", "[1, 1, 1]") +
+              "  - name: bead\n    type: sphere\n    center: [0.5, 0.5, 0.5]\n    radius: 5e-5\n"
+              "    patches: [8, 4]\n    reflectance: [0.8, 0.8, 0.8]\n");
     EXPECT_LT(s.checks.closure_max_error, 1e-6);
     double worst_wall = 0.0, worst_bead = 0.0;
     for (int i = 0; i < s.geometry.patch_count(); ++i) {
@@ -97,14 +99,16 @@ TEST(ExtremeScene, SphereOneTenThousandthOfTheRoom) {
 // sphere, so the pixel at the centre shows the bead's radiosity and the corners the walls'.
 TEST(ExtremeScene, SphereOneTenThousandthOfTheRoomRendersAtCloseRange) {
     const auto d = test::fresh_dir("extreme-bead");
-    std::ofstream(d / "bead.yaml") << ("closed: true\nsurfaces:\n" + unit_cube(2, "[0.5, 0.5, 0.5]", "[1, 1, 1]") +
-                                          "  - name: bead\n    type: sphere\n    center: [0.5, 0.5, 0.5]\n"
-                                          "    radius: 5e-5\n    patches: [8, 4]\n    reflectance: [0.8, 0.8, 0.8]\n");
-    std::ofstream(d / "cam.yaml") << ("camera:\n  look_at: [0.5, 0.5, 0.5]\n  distance: 3e-4\n  theta_deg: 30\n"
-                                     "  phi_deg: 80\n  fov_deg: 40\n");
-    const test::CliRun r = test::run({"render", (d / "bead.yaml").string(), "-c", (d / "cam.yaml").string(), "-o",
-                                      (d / "bead.exr").string(), "--width", "33", "--height", "33", "--samples", "1",
-                                      "--no-cache", "-q"});
+    std::ofstream(d / "bead.yaml")
+        << ("closed: true\nsurfaces:\n" + unit_cube(2, "[0.5, 0.5, 0.5]", "[1, 1, 1]") +
+            "  - name: bead\n    type: sphere\n    center: [0.5, 0.5, 0.5]\n"
+            "    radius: 5e-5\n    patches: [8, 4]\n    reflectance: [0.8, 0.8, 0.8]\n");
+    std::ofstream(d / "cam.yaml")
+        << ("camera:\n  look_at: [0.5, 0.5, 0.5]\n  distance: 3e-4\n  theta_deg: 30\n"
+            "  phi_deg: 80\n  fov_deg: 40\n");
+    const test::CliRun r = test::run({"render", (d / "bead.yaml").string(), "-c", (d / "cam.yaml").string(),
+                                      "-o", (d / "bead.exr").string(), "--width", "33", "--height", "33",
+                                      "--samples", "1", "--no-cache", "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     const Image img = media::read_image((d / "bead.exr").string());
     EXPECT_NEAR(img.pixel(16, 16).r, 1.6, 1.6e-6);
@@ -120,12 +124,13 @@ TEST(ExtremeScene, SphereOneTenThousandthOfTheRoomRendersAtCloseRange) {
 TEST(ExtremeScene, EmittingPatchOfArea1em8) {
     const double h = 0.9, half = 0.5e-4, E = 1e8;
     char emitter[512];
-    std::snprintf(emitter, sizeof emitter,
-                  "  - name: spark\n    type: quad\n    corners: [[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], "
-                  "[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g]]\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"
-                  "    emission: [%.17g, %.17g, %.17g]\n",
-                  0.5 - half, 0.5 - half, h, 0.5 - half, 0.5 + half, h, 0.5 + half, 0.5 + half, h, 0.5 + half,
-                  0.5 - half, h, E, E, E);
+    std::snprintf(
+        emitter, sizeof emitter,
+        "  - name: spark\n    type: quad\n    corners: [[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g], "
+        "[%.17g, %.17g, %.17g], [%.17g, %.17g, %.17g]]\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"
+        "    emission: [%.17g, %.17g, %.17g]\n",
+        0.5 - half, 0.5 - half, h, 0.5 - half, 0.5 + half, h, 0.5 + half, 0.5 + half, h, 0.5 + half,
+        0.5 - half, h, E, E, E);
     std::string room = unit_cube(4, "[0, 0, 0]", "[0, 0, 0]");
     room.replace(room.find("reflectance: [0, 0, 0]"), 22, "reflectance: [0.5, 0.5, 0.5]");  // the floor
     const Solution s = solve("closed: false\nsurfaces:\n" + room + emitter);
@@ -166,11 +171,13 @@ TEST(ExtremeScene, EmittingPatchOfArea1em8) {
 TEST(ExtremeScene, PatchTenThousandTimesLongerThanWide) {
     const double w = 1e-4;
     char strip[512];
-    std::snprintf(strip, sizeof strip,
-                  "  - name: strip\n    type: quad\n    corners: [[%.17g, 0, 0], [1, 0, 0], [1, 1, 0], [%.17g, 1, 0]]\n"
-                  "    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emission: [1, 1, 1]\n",
-                  1 - w, 1 - w);
-    const Solution s = solve("closed: true\nsurfaces:\n" + unit_cube(2, "[0.5, 0.5, 0.5]", "[1, 1, 1]", 1 - w) + strip);
+    std::snprintf(
+        strip, sizeof strip,
+        "  - name: strip\n    type: quad\n    corners: [[%.17g, 0, 0], [1, 0, 0], [1, 1, 0], [%.17g, 1, 0]]\n"
+        "    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emission: [1, 1, 1]\n",
+        1 - w, 1 - w);
+    const Solution s =
+        solve("closed: true\nsurfaces:\n" + unit_cube(2, "[0.5, 0.5, 0.5]", "[1, 1, 1]", 1 - w) + strip);
     EXPECT_LT(s.checks.closure_max_error, 1e-6);
     EXPECT_LT(s.checks.reciprocity_abs_error, 1e-6);
     double worst = 0.0;

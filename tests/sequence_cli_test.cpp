@@ -8,16 +8,15 @@
 #include <sstream>
 
 #include "app/cli.h"
-#include "cli_run.h"
 #include "app/sequence_job.h"
-#include "encode/features.h"
+#include "cli_run.h"
 #include "encode/encode.h"
+#include "encode/features.h"
+#include "encode/image_io.h"
 #include "encode/video_writer.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "render/camera.h"
-#include "encode/encode.h"
-#include "encode/image_io.h"
 #include "render/shading.h"
 #include "scene/scene.h"
 #include "schedule/sequence.h"
@@ -76,9 +75,9 @@ TEST(SequenceCli, VideoHasTheRightFramesDurationAndRate) {
 
 TEST(SequenceCli, PaperSequenceReproducesTable3Structure) {
     const fs::path d = fresh_dir("radiosa_seq_abc");
-    const CliRun r = run({"render", "--sequence", kABC, "-o", (d / "%d.png").string(), "--width", "64", "--height",
-                          "64", "--samples", "1", "--report", (d / "r.json").string(), "--cache-dir",
-                          (d / "cache").string()});
+    const CliRun r =
+        run({"render", "--sequence", kABC, "-o", (d / "%d.png").string(), "--width", "64", "--height", "64",
+             "--samples", "1", "--report", (d / "r.json").string(), "--cache-dir", (d / "cache").string()});
     ASSERT_EQ(r.code, 0) << r.err;
     const auto j = read_json(d / "r.json");
     const auto& f = j["frames"];
@@ -108,8 +107,9 @@ TEST(SequenceCli, PaperSequenceReproducesTable3Structure) {
     EXPECT_LT(j["solve"]["residual"].get<double>(), 1e-12);
     EXPECT_LT(j["solve"]["energy_balance_error"].get<double>(), 2e-6);
     // A second run finds the matrix in the cache.
-    ASSERT_EQ(run({"render", "--sequence", kABC, "-o", (d / "%d.png").string(), "--width", "64", "--height", "64",
-                   "--samples", "1", "-q", "--report", (d / "r2.json").string(), "--cache-dir", (d / "cache").string()})
+    ASSERT_EQ(run({"render", "--sequence", kABC, "-o", (d / "%d.png").string(), "--width", "64", "--height",
+                   "64", "--samples", "1", "-q", "--report", (d / "r2.json").string(), "--cache-dir",
+                   (d / "cache").string()})
                   .code,
               0);
     EXPECT_EQ(read_json(d / "r2.json")["frames"][0]["form_factors"], "cached");
@@ -169,16 +169,21 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
 TEST(SequenceCli, BadOutputsAreRefusedBeforeAnyWork) {
     const fs::path d = fresh_dir("radiosa_seq_bad");
     const fs::path seq = write_sequence(d, 10, 1.0);
-    CliRun r = run({"render", "-s", seq.string(), "-o", (d / "v.mp4").string(), "--width", "63", "--height", "48"});
+    CliRun r =
+        run({"render", "-s", seq.string(), "-o", (d / "v.mp4").string(), "--width", "63", "--height", "48"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: " + (d / "v.mp4").string() +
-                         (kHasVideo ? ": H.264 in yuv420p needs an even width and height, got 63x48 (use --width/--height)\n"
-                                    : std::string(": ") + kNoVideoMessage + "\n"));
+    EXPECT_EQ(
+        r.err,
+        "error: " + (d / "v.mp4").string() +
+            (kHasVideo
+                 ? ": H.264 in yuv420p needs an even width and height, got 63x48 (use --width/--height)\n"
+                 : std::string(": ") + kNoVideoMessage + "\n"));
     r = run({"render", "-s", seq.string(), "-o", (d / "frame.png").string()});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: " + (d / "frame.png").string() +
-                         ": a sequence is written as a video (.mp4) or as numbered images with one %d or %04d in "
-                         "the name, e.g. out/frames/%04d.png\n");
+    EXPECT_EQ(r.err,
+              "error: " + (d / "frame.png").string() +
+                  ": a sequence is written as a video (.mp4) or as numbered images with one %d or %04d in "
+                  "the name, e.g. out/frames/%04d.png\n");
     r = run({"render", "-s", seq.string(), "-o", "/nonexistent-radiosa/v.mp4"});
     EXPECT_EQ(r.code, 1);
     r = run({"render", kScene, "-s", seq.string(), "-c", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml"});
@@ -186,7 +191,9 @@ TEST(SequenceCli, BadOutputsAreRefusedBeforeAnyWork) {
     EXPECT_NE(r.err.find("excludes"), std::string::npos) << r.err;
     r = run({"render", kScene});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation\n");
+    EXPECT_EQ(r.err,
+              "error: render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an "
+              "animation\n");
     EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 1);  // only seq.yaml
     fs::remove_all(d);
 }
@@ -197,7 +204,8 @@ TEST(SequenceCli, BadOutputsAreRefusedBeforeAnyWork) {
 TEST(SequenceCli, OutputsThisBuildCannotWriteAreRefusedBeforeAnyWork) {
     CliRun r = run({"--version"});
     EXPECT_EQ(r.code, 0);
-    EXPECT_NE(r.out.find(kHasVideo ? "outputs (libav): yes" : "outputs (libav): no"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(kHasVideo ? "outputs (libav): yes" : "outputs (libav): no"), std::string::npos)
+        << r.out;
     if (kHasVideo) return;
     const fs::path d = fresh_dir("radiosa_seq_novideo");
     const fs::path seq = write_sequence(d, 4, 0.4);
@@ -230,11 +238,13 @@ TEST(SequenceCli, PaletteSequenceWritesGifAndIndexedPngsAndReportsPsnr) {
     EXPECT_GT(mc, 25.0);
     EXPECT_GT(mc, pop);  // measured on the demo: 30.4 vs 23.8 dB at 16 colours
     EXPECT_EQ(media::probe_video(d / "p.gif").frames, 4);
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(media::read_image(frame_path((d / "p%d.png").string(), k)).width, 40);
+    for (int k = 0; k < 4; ++k)
+        EXPECT_EQ(media::read_image(frame_path((d / "p%d.png").string(), k)).width, 40);
     r = run({"render", "-s", seq.string(), "--palette", "16", "-o", (d / "v.mp4").string()});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err, "error: " + (d / "v.mp4").string() +
-                         ": with --palette, write a .gif or numbered indexed PNGs such as out/frames/%04d.png\n");
+    EXPECT_EQ(r.err,
+              "error: " + (d / "v.mp4").string() +
+                  ": with --palette, write a .gif or numbered indexed PNGs such as out/frames/%04d.png\n");
     fs::remove_all(d);
 }
 

@@ -14,7 +14,8 @@ inline std::string quad(const std::string& name, const std::string& corners, int
 }
 
 inline Scene scene_of(const std::string& surfaces, bool closed = false) {
-    return parse_scene(std::string("closed: ") + (closed ? "true" : "false") + "\nsurfaces:\n" + surfaces, "test.yaml");
+    return parse_scene(std::string("closed: ") + (closed ? "true" : "false") + "\nsurfaces:\n" + surfaces,
+                       "test.yaml");
 }
 
 // Unit square in z = 0 facing +z, and its opposite at z = 1 facing -z.

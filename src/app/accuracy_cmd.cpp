@@ -53,11 +53,12 @@ struct Row {
 };
 
 std::string quad_yaml(const std::string& name, const std::string& corners, int n = 1) {
-    return "  - name: " + name + "\n    type: quad\n    corners: " + corners + "\n    patches: [" + std::to_string(n) +
-           ", " + std::to_string(n) + "]\n    reflectance: [0, 0, 0]\n";
+    return "  - name: " + name + "\n    type: quad\n    corners: " + corners + "\n    patches: [" +
+           std::to_string(n) + ", " + std::to_string(n) + "]\n    reflectance: [0, 0, 0]\n";
 }
 Scene yaml_scene(const std::string& surfaces, bool closed = false) {
-    return parse_scene(std::string("closed: ") + (closed ? "true" : "false") + "\nsurfaces:\n" + surfaces, "accuracy");
+    return parse_scene(std::string("closed: ") + (closed ? "true" : "false") + "\nsurfaces:\n" + surfaces,
+                       "accuracy");
 }
 
 // Quads of a cube of side 4 centred at the origin, normals inwards, one patch each.
@@ -98,8 +99,9 @@ void add_facets(Scene* scene, int n_az, int n_pol) {
         }
 }
 
-const std::string kSphere = "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
-                            "    reflectance: [0, 0, 0]\n";
+const std::string kSphere =
+    "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
+    "    reflectance: [0, 0, 0]\n";
 
 std::vector<Config> configurations() {
     using namespace analytic;
@@ -132,8 +134,9 @@ std::vector<Config> configurations() {
                  pair01(perpendicular_squares_corner()), nullptr});
     c.push_back({"perpendicular squares, gap 1e-3",
                  [] {
-                     return yaml_scene(quad_yaml("a", "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]") +
-                                       quad_yaml("b", "[[0, 0, 0.001], [0, 0, 1.001], [1, 0, 1.001], [1, 0, 0.001]]"));
+                     return yaml_scene(
+                         quad_yaml("a", "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]") +
+                         quad_yaml("b", "[[0, 0, 0.001], [0, 0, 1.001], [1, 0, 1.001], [1, 0, 0.001]]"));
                  },
                  pair01(perpendicular_rectangles_gap(1, 1, 1e-3, 1)), nullptr});
     c.push_back({"opposed 1 x 1e-4 strips, distance 1",
@@ -144,9 +147,10 @@ std::vector<Config> configurations() {
                  pair01(parallel_rectangles(1, 1e-4, 1)), nullptr});
     c.push_back({"inside of a sphere, 8 x 4 patches",
                  [] {
-                     return yaml_scene("  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
-                                       "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
-                                       true);
+                     return yaml_scene(
+                         "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+                         "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                         true);
                  },
                  [](const FormFactors& ff, const SceneGeometry&) {
                      ErrorStats e;
@@ -157,9 +161,11 @@ std::vector<Config> configurations() {
                  nullptr});
     c.push_back({"concentric spheres, radii 1 and 2",
                  [] {
-                     return yaml_scene(kSphere + "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 2\n"
-                                                 "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
-                                       true);
+                     return yaml_scene(
+                         kSphere +
+                             "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 2\n"
+                             "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                         true);
                  },
                  [](const FormFactors& ff, const SceneGeometry&) {
                      // Inner patches send everything to the shell; every shell patch sends
@@ -214,7 +220,8 @@ void run_accuracy(const AccuracyJob& job, std::ostream& out) {
     if (ec) throw Error(job.out_dir + ": cannot create the output directory: " + ec.message());
     std::unique_ptr<tbb::global_control> limit;
     if (job.threads > 0)
-        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, job.threads);
+        limit =
+            std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, job.threads);
 
     const std::vector<Config> configs = configurations();
     {  // warm up (thread pool, Gauss tables) so the first timing is not an outlier
@@ -234,9 +241,11 @@ void run_accuracy(const AccuracyJob& job, std::ostream& out) {
         rows.push_back(r);
         return r.seconds;
     };
-    const std::vector<int> ps = job.quick ? std::vector<int>{2} : std::vector<int>{1, 2, 3, 4, 5, 6, 8, 10, 12, 14, 16};
-    const std::vector<double> tols = job.quick ? std::vector<double>{1e-3}
-                                               : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10};
+    const std::vector<int> ps =
+        job.quick ? std::vector<int>{2} : std::vector<int>{1, 2, 3, 4, 5, 6, 8, 10, 12, 14, 16};
+    const std::vector<double> tols =
+        job.quick ? std::vector<double>{1e-3}
+                  : std::vector<double>{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10};
     const std::vector<int> facets = job.quick ? std::vector<int>{32} : std::vector<int>{32, 128, 512, 2048};
     for (const Config& c : configs) {
         const Scene scene = c.scene();
@@ -249,16 +258,19 @@ void run_accuracy(const AccuracyJob& job, std::ostream& out) {
                 // The faceted sphere is convex, so nothing can block a face-to-facet pair: with
                 // visibility off the closed-form inner integral applies to every such pair and the
                 // error measured is the faceting's alone.
-                if (run(c, c.faceted(n), "faceted", n, FormFactorOptions::adaptive(1e-9, false)) > job.budget_s) break;
+                if (run(c, c.faceted(n), "faceted", n, FormFactorOptions::adaptive(1e-9, false)) >
+                    job.budget_s)
+                    break;
     }
 
     const fs::path dir(job.out_dir);
     std::ostringstream csv, md;
     csv << "config,method,parameter,seconds,max_error,mean_error\n";
-    md << "| configuration | method | parameter | seconds | max error | mean error |\n|---|---|---|---|---|---|\n";
+    md << "| configuration | method | parameter | seconds | max error | mean error "
+          "|\n|---|---|---|---|---|---|\n";
     for (const Row& r : rows) {
-        csv << fmt::format("\"{}\",{},{:g},{:.6g},{:.6e},{:.6e}\n", r.config, r.method, r.parameter, r.seconds,
-                           r.err.max, r.err.mean);
+        csv << fmt::format("\"{}\",{},{:g},{:.6g},{:.6e},{:.6e}\n", r.config, r.method, r.parameter,
+                           r.seconds, r.err.max, r.err.mean);
         md << fmt::format("| {} | {} | {:g} | {:.4f} | {:.2e} | {:.2e} |\n", r.config, r.method, r.parameter,
                           r.seconds, r.err.max, r.err.mean);
     }

@@ -9,8 +9,8 @@ namespace radiosa {
 
 struct AccuracyJob {
     std::string out_dir = "out/accuracy";
-    bool quick = false;       // a few methods only (smoke test)
-    double budget_s = 30.0;   // stop refining a method on a configuration once a run exceeds this
+    bool quick = false;      // a few methods only (smoke test)
+    double budget_s = 30.0;  // stop refining a method on a configuration once a run exceeds this
     int threads = 0;
 };
 

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cctype>
-#include <string_view>
 #include <chrono>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cache/cache_file.h"
@@ -47,9 +47,12 @@ std::vector<fs::path> entries(const fs::path& dir, Kind kind) {
 
 std::string human_size(std::uintmax_t b) {
     char buf[32];
-    if (b < 10 * 1024) std::snprintf(buf, sizeof buf, "%ju B", b);
-    else if (b < 10 * 1024 * 1024) std::snprintf(buf, sizeof buf, "%.0f KiB", b / 1024.0);
-    else std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024.0));
+    if (b < 10 * 1024)
+        std::snprintf(buf, sizeof buf, "%ju B", b);
+    else if (b < 10 * 1024 * 1024)
+        std::snprintf(buf, sizeof buf, "%.0f KiB", b / 1024.0);
+    else
+        std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024.0));
     return buf;
 }
 
@@ -59,10 +62,14 @@ std::string human_age(const fs::path& p) {
     if (ec) return "?";
     const double s = std::chrono::duration<double>(fs::file_time_type::clock::now() - t).count();
     char buf[32];
-    if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", std::max(0.0, s));
-    else if (s < 7200) std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
-    else if (s < 172800) std::snprintf(buf, sizeof buf, "%.0f h", s / 3600);
-    else std::snprintf(buf, sizeof buf, "%.0f days", s / 86400);
+    if (s < 120)
+        std::snprintf(buf, sizeof buf, "%.0f s", std::max(0.0, s));
+    else if (s < 7200)
+        std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
+    else if (s < 172800)
+        std::snprintf(buf, sizeof buf, "%.0f h", s / 3600);
+    else
+        std::snprintf(buf, sizeof buf, "%.0f days", s / 86400);
     return buf;
 }
 
@@ -81,8 +88,8 @@ void cache_list(const fs::path& dir, std::ostream& out) {
         try {
             const CacheFileInfo info = read_cache_info(f);
             std::snprintf(buf, sizeof buf, "%-32s  %-24s %8llu %10s %9s\n", f.stem().string().c_str(),
-                          info.scene_name.c_str(), static_cast<unsigned long long>(info.patches), size.c_str(),
-                          human_age(f).c_str());
+                          info.scene_name.c_str(), static_cast<unsigned long long>(info.patches),
+                          size.c_str(), human_age(f).c_str());
         } catch (const CacheFileError& e) {
             std::snprintf(buf, sizeof buf, "%-32s  unreadable: %s\n", f.stem().string().c_str(), e.what());
         }
@@ -108,7 +115,8 @@ bool cache_verify(const fs::path& dir, std::ostream& out) {
     }
     const auto leftovers = entries(dir, Kind::Leftover);
     out << files.size() << " file(s) checked, " << bad << " bad";
-    if (!leftovers.empty()) out << "; " << leftovers.size() << " lock or temporary file(s) ('radiosa cache clear' removes them)";
+    if (!leftovers.empty())
+        out << "; " << leftovers.size() << " lock or temporary file(s) ('radiosa cache clear' removes them)";
     out << "\n";
     return bad == 0;
 }

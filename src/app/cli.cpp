@@ -1,10 +1,10 @@
 #include "app/cli.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
-
-#include <unistd.h>
 
 #include "app/accuracy_cmd.h"
 #include "app/cache_cmd.h"
@@ -31,22 +31,25 @@ void add_cache_dir_option(CLI::App* cmd, CacheSettings* cache) {
 void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
     CacheSettings* cache = &req->cache;
     std::optional<bool>* visibility = &req->visibility;
-    auto* p = cmd->add_option("--gauss-points,-p", req->gauss_points,
-                              "The paper's fixed Gauss-Legendre rule, P points per parameter (no error control)")
-                  ->check(CLI::Range(1, 64));
+    auto* p =
+        cmd->add_option("--gauss-points,-p", req->gauss_points,
+                        "The paper's fixed Gauss-Legendre rule, P points per parameter (no error control)")
+            ->check(CLI::Range(1, 64));
     cmd->add_option("--ff-tolerance", req->tolerance,
                     "Error-controlled form factors: absolute tolerance on each F_ij (default 1e-6)")
         ->check(CLI::Range(1e-12, 0.1))
         ->excludes(p);
-    cmd->add_flag_callback("--no-visibility", [visibility] { *visibility = false; },
-                           "Ignore occlusion in form factors (for comparison)");
+    cmd->add_flag_callback(
+        "--no-visibility", [visibility] { *visibility = false; },
+        "Ignore occlusion in form factors (for comparison)");
     bool* culling = &req->culling;
-    cmd->add_flag_callback("--no-culling", [culling] { *culling = false; },
-                           "Integrate every pair and test every surface as an occluder, without the cache: "
-                           "measures what culling saves");
+    cmd->add_flag_callback(
+        "--no-culling", [culling] { *culling = false; },
+        "Integrate every pair and test every surface as an occluder, without the cache: "
+        "measures what culling saves");
     add_cache_dir_option(cmd, cache);
-    cmd->add_flag_callback("--no-cache", [cache] { cache->enabled = false; },
-                           "Neither read nor write the form-factor cache");
+    cmd->add_flag_callback(
+        "--no-cache", [cache] { cache->enabled = false; }, "Neither read nor write the form-factor cache");
 }
 
 struct SequenceOptions {
@@ -59,17 +62,21 @@ struct SequenceOptions {
 void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool* quiet) {
     std::string* sequence = &so->sequence;
     int* crf = &so->crf;
-    cmd->add_option("scene", job->scene_path, "Scene file (YAML); optional with a sequence that names its scene");
-    auto* camera = cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML): render one still image");
-    cmd->add_option("--sequence,-s", *sequence, "Sequence file (YAML): render an animation")->excludes(camera);
+    cmd->add_option("scene", job->scene_path,
+                    "Scene file (YAML); optional with a sequence that names its scene");
+    auto* camera =
+        cmd->add_option("--camera,-c", job->camera_path, "Camera file (YAML): render one still image");
+    cmd->add_option("--sequence,-s", *sequence, "Sequence file (YAML): render an animation")
+        ->excludes(camera);
     cmd->add_option("-o,--output", job->outputs,
                     "Output. Still: .png (8-bit sRGB) or .exr (linear float). Sequence: .mp4 (H.264) or "
                     "numbered images such as out/frames/%04d.png. Repeatable");
     cmd->add_option("--crf", *crf, "Video quality, x264 constant rate factor (0 lossless .. 51; default 18)")
         ->check(CLI::Range(0, 51));
-    cmd->add_option("--palette", so->palette,
-                    "Sequence: one palette of N colours (2..256) for all frames, as the 1991 paper's display; "
-                    "outputs .gif or numbered indexed .png")
+    cmd->add_option(
+           "--palette", so->palette,
+           "Sequence: one palette of N colours (2..256) for all frames, as the 1991 paper's display; "
+           "outputs .gif or numbered indexed .png")
         ->check(CLI::Range(2, 256));
     cmd->add_option_function<std::string>(
            "--quantiser", [so](const std::string& s) { so->quantiser = parse_quantiser(s); },
@@ -84,7 +91,8 @@ void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool*
     add_form_factor_options(cmd, &job->form_factors);
     cmd->add_option_function<std::string>(
            "--solver", [job](const std::string& s) { job->solver = parse_solver_method(s); },
-           "lu (default), gauss-jordan (the 1991 paper's method), or iterative: jacobi, gauss-seidel, southwell")
+           "lu (default), gauss-jordan (the 1991 paper's method), or iterative: jacobi, gauss-seidel, "
+           "southwell")
         ->check(CLI::IsMember({"lu", "gauss-jordan", "jacobi", "gauss-seidel", "southwell"}));
     cmd->add_option("--exposure", job->exposure, "Exposure in stops for 8-bit outputs (default 0)")
         ->check(CLI::Range(-200.0, 200.0));
@@ -125,8 +133,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     CLI::App app{"radiosa: radiosity for curved parametric surfaces (parametric differential method)",
                  "radiosa"};
     app.require_subcommand(0, 1);
-    app.set_version_flag("--version", std::string("radiosa " RADIOSA_VERSION "; video and palette outputs (libav): ") +
-                                          (kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF"));
+    app.set_version_flag("--version",
+                         std::string("radiosa " RADIOSA_VERSION "; video and palette outputs (libav): ") +
+                             (kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF"));
     bool quiet = false;
     const WarningSink warn = [&err](const std::string& w) { err << "warning: " << w << "\n"; };
 
@@ -146,22 +155,29 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
     AccuracyJob accuracy_job;
     CLI::App* accuracy = app.add_subcommand(
-        "accuracy", "Form-factor error against run time on configurations with known answers (CSV, Markdown, plot)");
+        "accuracy",
+        "Form-factor error against run time on configurations with known answers (CSV, Markdown, plot)");
     accuracy->add_option("--out", accuracy_job.out_dir, "Output directory (default out/accuracy)");
     accuracy->add_flag("--quick", accuracy_job.quick, "A few methods only (a smoke test)");
-    accuracy->add_option("--budget", accuracy_job.budget_s,
-                         "Stop refining a method on a configuration once one run takes longer (seconds, default 30)")
+    accuracy
+        ->add_option(
+            "--budget", accuracy_job.budget_s,
+            "Stop refining a method on a configuration once one run takes longer (seconds, default 30)")
         ->check(CLI::Range(0.01, 3600.0));
-    accuracy->add_option("--threads", accuracy_job.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    accuracy->add_option("--threads", accuracy_job.threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 1024));
 
     CacheSettings cache_dir;
     CLI::App* cache = app.add_subcommand("cache", "Inspect or empty the form-factor cache");
     cache->require_subcommand(1, 1);
-    CLI::App* cache_list_cmd = cache->add_subcommand("list", "List cached matrices: key, scene, patches, size, age");
+    CLI::App* cache_list_cmd =
+        cache->add_subcommand("list", "List cached matrices: key, scene, patches, size, age");
     CLI::App* cache_verify_cmd =
         cache->add_subcommand("verify", "Check every cached matrix completely; exit 1 if any is bad");
-    CLI::App* cache_clear_cmd = cache->add_subcommand("clear", "Remove cached matrices, stale temporaries and locks");
-    for (CLI::App* c : {cache_list_cmd, cache_verify_cmd, cache_clear_cmd}) add_cache_dir_option(c, &cache_dir);
+    CLI::App* cache_clear_cmd =
+        cache->add_subcommand("clear", "Remove cached matrices, stale temporaries and locks");
+    for (CLI::App* c : {cache_list_cmd, cache_verify_cmd, cache_clear_cmd})
+        add_cache_dir_option(c, &cache_dir);
 
     try {
         try {
@@ -174,7 +190,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             return 0;
         } catch (const CLI::ParseError& e) {
             if (e.get_exit_code() == 0) {  // --help on a subcommand
-                for (CLI::App* c : {render, formfactors, accuracy, cache_list_cmd, cache_verify_cmd, cache_clear_cmd, cache})
+                for (CLI::App* c : {render, formfactors, accuracy, cache_list_cmd, cache_verify_cmd,
+                                    cache_clear_cmd, cache})
                     if (c->parsed()) {
                         out << c->help();
                         return 0;
@@ -216,7 +233,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             SequenceJob sj;
             sj.scene_path = job.scene_path;
             sj.sequence_path = sequence;
-            sj.outputs = job.outputs.empty() ? std::vector<std::string>{default_sequence_output(sequence)} : job.outputs;
+            sj.outputs = job.outputs.empty() ? std::vector<std::string>{default_sequence_output(sequence)}
+                                             : job.outputs;
             sj.report_path = job.report_path;
             if (render->count("--width")) sj.width = job.render.width;
             if (render->count("--height")) sj.height = job.render.height;
@@ -236,8 +254,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
         }
         if (so.palette > 0) throw Error("render: --palette applies to sequences (--sequence)");
         if (job.camera_path.empty())
-            throw Error("render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation");
-        if (job.scene_path.empty()) throw Error("render: a still needs the scene file (radiosa render SCENE.yaml --camera ...)");
+            throw Error(
+                "render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation");
+        if (job.scene_path.empty())
+            throw Error("render: a still needs the scene file (radiosa render SCENE.yaml --camera ...)");
         if (job.outputs.empty()) job.outputs.push_back(default_output(job));
         const StillReport report = run_still(job);
         if (!quiet) out << still_summary(job, report);

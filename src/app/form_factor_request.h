@@ -11,14 +11,15 @@
 namespace radiosa {
 
 struct FormFactorRequest {
-    std::optional<double> tolerance;   // --ff-tolerance
-    std::optional<int> gauss_points;   // --gauss-points: the paper's fixed rule
-    std::optional<bool> visibility;    // --no-visibility
-    bool culling = true;               // --no-culling (a diagnostic; bypasses the cache)
-    CacheSettings cache;               // --cache-dir, --no-cache
+    std::optional<double> tolerance;  // --ff-tolerance
+    std::optional<int> gauss_points;  // --gauss-points: the paper's fixed rule
+    std::optional<bool> visibility;   // --no-visibility
+    bool culling = true;              // --no-culling (a diagnostic; bypasses the cache)
+    CacheSettings cache;              // --cache-dir, --no-cache
 
     FormFactorOptions options_for(const Scene& scene) const {
-        FormFactorOptions o = resolve_form_factor_options(scene.form_factors, tolerance, gauss_points, visibility);
+        FormFactorOptions o =
+            resolve_form_factor_options(scene.form_factors, tolerance, gauss_points, visibility);
         o.culling = culling;
         return o;
     }

@@ -32,12 +32,14 @@ std::string run_formfactors(const FormFactorsJob& job) {
         write_text_file(*job.report_path, j.dump(2) + "\n");
     }
 
-    std::string s = "radiosa formfactors " + job.scene_path + " (" + std::to_string(p.geometry.patch_count()) +
-                    " patches on " + std::to_string(p.geometry.surface_count()) + " surfaces)\n";
+    std::string s = "radiosa formfactors " + job.scene_path + " (" +
+                    std::to_string(p.geometry.patch_count()) + " patches on " +
+                    std::to_string(p.geometry.surface_count()) + " surfaces)\n";
     s += prepared_summary(p);
     if (job.matrix_path) {
         s += "  wrote " + *job.matrix_path;
-        if (job.matrix_path->ends_with(".npy")) s += " and " + npy_patch_table_path(*job.matrix_path).string();
+        if (job.matrix_path->ends_with(".npy"))
+            s += " and " + npy_patch_table_path(*job.matrix_path).string();
         s += "\n";
     }
     return s;

@@ -33,7 +33,8 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     p.ff = obtain_form_factors(p.scene, p.geometry, p.options, request.cache, warn, &p.cache);
     p.form_factors_s = clock.seconds();
     p.checks = check_form_factors(p.ff);
-    if (p.checks.closure_worst_patch >= 0) p.closure_worst_patch = p.geometry.patch_label(p.checks.closure_worst_patch);
+    if (p.checks.closure_worst_patch >= 0)
+        p.closure_worst_patch = p.geometry.patch_label(p.checks.closure_worst_patch);
     return p;
 }
 
@@ -56,25 +57,27 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
 
 std::string prepared_summary(const Prepared& p) {
     const FormFactorStats& st = p.ff.stats;
-    std::string s = fmt::format("  {:<13} {:8.3f} s  {}, visibility {}, {} pairs, {} culled, {} segment tests\n",
-                                "form factors", p.form_factors_s, describe(p.options),
-                                p.options.visibility ? "on" : "off", st.pairs, st.pairs_culled, st.segment_tests);
+    std::string s =
+        fmt::format("  {:<13} {:8.3f} s  {}, visibility {}, {} pairs, {} culled, {} segment tests\n",
+                    "form factors", p.form_factors_s, describe(p.options),
+                    p.options.visibility ? "on" : "off", st.pairs, st.pairs_culled, st.segment_tests);
     s += fmt::format("  {:<13}    cache {}\n", "", cache_outcome_summary(p.cache));
     if (p.scene.closed)
         s += fmt::format("  closure max |sum_j F_ij - 1| = {:.2e} (worst: {})\n", p.checks.closure_max_error,
                          p.closure_worst_patch);
-    s += fmt::format("  reciprocity max |F_ij - A_j F_ji / A_i| = {:.2e} (relative {:.2e}, {:.2f} of the estimates)\n",
-                     p.checks.reciprocity_abs_error, p.checks.reciprocity_max_error, p.checks.reciprocity_vs_estimate);
+    s += fmt::format(
+        "  reciprocity max |F_ij - A_j F_ji / A_i| = {:.2e} (relative {:.2e}, {:.2f} of the estimates)\n",
+        p.checks.reciprocity_abs_error, p.checks.reciprocity_max_error, p.checks.reciprocity_vs_estimate);
     if (!p.ff.error.empty())
-        s += fmt::format("  error estimates: max per entry {:.2e}, max per row {:.2e}\n", p.checks.max_error_estimate,
-                         p.checks.max_row_error_estimate);
+        s += fmt::format("  error estimates: max per entry {:.2e}, max per row {:.2e}\n",
+                         p.checks.max_error_estimate, p.checks.max_row_error_estimate);
     return s;
 }
 
-ThreadLimit::ThreadLimit(int threads)
-    : m_threads(threads > 0 ? threads : tbb::info::default_concurrency()) {
+ThreadLimit::ThreadLimit(int threads) : m_threads(threads > 0 ? threads : tbb::info::default_concurrency()) {
     if (threads > 0)
-        m_control = std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+        m_control =
+            std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 }
 
 }  // namespace radiosa

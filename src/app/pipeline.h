@@ -19,7 +19,7 @@ namespace radiosa {
 struct Prepared {
     Scene scene;
     SceneGeometry geometry;
-    FormFactorOptions options;    // as resolved from the command line and the scene file
+    FormFactorOptions options;  // as resolved from the command line and the scene file
     FormFactors ff;
     CacheOutcome cache;
     FormFactorChecks checks;

@@ -24,7 +24,8 @@ nlohmann::json form_factor_stats_json(const FormFactorStats& s) {
     return j;
 }
 
-nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s, const SharedSolves& solves) {
+nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s,
+                             const SharedSolves& solves) {
     return {{"culling", o.culling},
             {"pairs", s.pairs},
             {"pairs_culled", s.pairs_culled},
@@ -65,11 +66,14 @@ void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c) {
 std::string cache_outcome_summary(const CacheOutcome& c) {
     std::string s = cache_status_name(c.status);
     switch (c.status) {
-        case CacheStatus::Off: return s + (c.reason.empty() ? " (--no-cache)" : " (" + c.reason + ")");
-        case CacheStatus::Hit: return s + fmt::format(" {} (loaded in {:.3f} s)", c.file, c.load_s);
+        case CacheStatus::Off:
+            return s + (c.reason.empty() ? " (--no-cache)" : " (" + c.reason + ")");
+        case CacheStatus::Hit:
+            return s + fmt::format(" {} (loaded in {:.3f} s)", c.file, c.load_s);
         case CacheStatus::Rebuilt:
         case CacheStatus::Miss:
-            s += fmt::format(" (computed in {:.3f} s{})", c.compute_s, c.written ? ", written" : ", not written");
+            s += fmt::format(" (computed in {:.3f} s{})", c.compute_s,
+                             c.written ? ", written" : ", not written");
             if (c.written) s += " " + c.file;
             if (!c.reason.empty()) s += "; " + c.reason;
             return s;

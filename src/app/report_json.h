@@ -17,13 +17,14 @@ nlohmann::json form_factor_stats_json(const FormFactorStats& s);
 // What the solves shared: channels with identical reflectance (and emission) reuse one
 // factorisation (and one substitution); a scene with no light skips the solve.
 struct SharedSolves {
-    int factorisations = 0, factorisations_possible = 0;   // run, and one per channel and reflectance set
-    int channel_solves = 0, channel_solves_possible = 0;   // run, and one per channel and distinct state
+    int factorisations = 0, factorisations_possible = 0;  // run, and one per channel and reflectance set
+    int channel_solves = 0, channel_solves_possible = 0;  // run, and one per channel and distinct state
     bool skipped = false;
 };
 // "left_out": what the run proved it did not need to do, counted (README, "Leaving out what a
 // scene does not need").
-nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s, const SharedSolves& solves);
+nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s,
+                             const SharedSolves& solves);
 // Adds form_factor_method ("adaptive" | "gauss"), form_factor_tolerance and gauss_points (the
 // one that does not apply is null) and visibility.
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);

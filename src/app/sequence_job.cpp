@@ -10,8 +10,8 @@
 
 #include "app/pipeline.h"
 #include "app/report_json.h"
-#include "encode/features.h"
 #include "encode/encode.h"
+#include "encode/features.h"
 #include "geometry/scene_geometry.h"
 #include "render/camera.h"
 #include "render/shading.h"
@@ -89,15 +89,16 @@ void check_palette_output(const std::string& path) {
         return;
     }
     if (!path.ends_with(".png") || path.find('%') == std::string::npos)
-        throw Error(path + ": with --palette, write a .gif or numbered indexed PNGs such as out/frames/%04d.png");
+        throw Error(path +
+                    ": with --palette, write a .gif or numbered indexed PNGs such as out/frames/%04d.png");
     check_sequence_output(path, 2, 2);
 }
 
 // Builds both palettes from the whole sequence, reports how close each comes to the
 // true-colour frames, and writes the chosen one's frames.
 void write_palette_outputs(const SequenceJob& job, const RenderOptions& ro, double fps,
-                           const std::vector<std::vector<std::uint8_t>>& frames, const ColourHistogram& histogram,
-                           SequenceReport::PaletteResult* result) {
+                           const std::vector<std::vector<std::uint8_t>>& frames,
+                           const ColourHistogram& histogram, SequenceReport::PaletteResult* result) {
     for (Quantiser q : {Quantiser::MedianCut, Quantiser::Popularity}) {
         PaletteMapper mapper(histogram.palette(job.palette, q));
         PsnrAccumulator psnr;
@@ -106,7 +107,8 @@ void write_palette_outputs(const SequenceJob& job, const RenderOptions& ro, doub
             indexed.push_back(mapper.map(f));
             psnr.add(f, indexed.back(), mapper.palette());
         }
-        (q == Quantiser::MedianCut ? result->psnr_median_cut_db : result->psnr_popularity_db) = psnr.psnr_db();
+        (q == Quantiser::MedianCut ? result->psnr_median_cut_db : result->psnr_popularity_db) =
+            psnr.psnr_db();
         if (q != job.quantiser) continue;
         result->colours = static_cast<int>(mapper.palette().size());
         for (const auto& o : job.outputs) {
@@ -129,7 +131,6 @@ void print_progress(std::ostream& out, int done, int total, double elapsed) {
                        std::string(width - filled, '.'), done, total, rate, eta)
         << std::flush;
 }
-
 
 // With a palette, frames are kept (8-bit) until every frame has added to the histogram.
 struct SequenceKept {
@@ -154,8 +155,9 @@ std::vector<std::unique_ptr<RadiositySolver>> build_solvers(const SequenceJob& j
     std::string last_warning;
     for (const auto& fp : plan.frames) {
         if (fp.solve == SolveAction::Reused) continue;
-        const std::string w = check_steady_state(*solvers[fp.reflectance_set], plan.reflectances[fp.reflectance_set],
-                                                 plan.solutions[fp.solution].E, p.scene.closed, job.sequence_path);
+        const std::string w =
+            check_steady_state(*solvers[fp.reflectance_set], plan.reflectances[fp.reflectance_set],
+                               plan.solutions[fp.solution].E, p.scene.closed, job.sequence_path);
         if (!w.empty() && w != last_warning) job.warn(last_warning = w);
     }
     return solvers;
@@ -167,15 +169,18 @@ public:
     FrameLoop(const SequenceJob& job, const Prepared& p, const Plan& plan, SequenceReport* r)
         : m_job(job), m_p(p), m_plan(plan), m_r(r), m_solutions(plan.solutions.size()) {}
 
-    void run(std::vector<std::unique_ptr<RadiositySolver>>& solvers, EncoderThread& encoder, SequenceKept* kept) {
+    void run(std::vector<std::unique_ptr<RadiositySolver>>& solvers, EncoderThread& encoder,
+             SequenceKept* kept) {
         const Stopwatch loop_clock;
         for (std::size_t f = 0; f < m_r->frames.size(); ++f) {
             FrameRecord& rec = m_r->frames[f];
             solve(rec, *solvers[rec.plan.reflectance_set]);
             render(rec);
             if (m_job.on_frame) m_job.on_frame(static_cast<int>(f), *m_image);
-            if (m_job.palette > 0) kept->add(to_srgb8(*m_image, m_job.exposure));
-            else encoder.push(static_cast<int>(f), m_image);
+            if (m_job.palette > 0)
+                kept->add(to_srgb8(*m_image, m_job.exposure));
+            else
+                encoder.push(static_cast<int>(f), m_image);
             if (m_job.progress)
                 print_progress(*m_job.progress, static_cast<int>(f + 1), static_cast<int>(m_r->frames.size()),
                                loop_clock.seconds());
@@ -197,7 +202,8 @@ private:
             m_p.ff.F, m_p.ff.area, {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
             m_solutions[fp.solution]);
         m_r->residual = std::max(m_r->residual, d.residual);
-        if (m_p.scene.closed) m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
+        if (m_p.scene.closed)
+            m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
     }
     void render(FrameRecord& rec) {
         const FramePlan& fp = rec.plan;
@@ -235,8 +241,10 @@ Sequence read_sequence(const SequenceJob& job, const Scene& scene, RenderOptions
     ro->height = job.height.value_or(seq.height.value_or(ro->height));
     ro->samples = job.samples.value_or(seq.samples.value_or(ro->samples));
     for (const auto& o : job.outputs) {
-        if (job.palette > 0) check_palette_output(o);
-        else check_sequence_output(o, ro->width, ro->height);
+        if (job.palette > 0)
+            check_palette_output(o);
+        else
+            check_sequence_output(o, ro->width, ro->height);
     }
     return seq;
 }
@@ -260,11 +268,13 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     r.threads = limit.threads();
     r.scene_path = job.scene_path.empty() ? sequence_scene_path(job.sequence_path) : job.scene_path;
     if (r.scene_path.empty())
-        throw Error(job.sequence_path + ": the sequence names no scene; add 'scene: path' to it or give SCENE.yaml");
+        throw Error(job.sequence_path +
+                    ": the sequence names no scene; add 'scene: path' to it or give SCENE.yaml");
     std::optional<Sequence> seq;
-    r.prep = std::make_unique<Prepared>(prepare(r.scene_path, job.form_factors, job.warn, [&](const Prepared& p) {
-        seq = read_sequence(job, p.scene, &r.render);
-    }));
+    r.prep =
+        std::make_unique<Prepared>(prepare(r.scene_path, job.form_factors, job.warn, [&](const Prepared& p) {
+            seq = read_sequence(job, p.scene, &r.render);
+        }));
     const Prepared& p = *r.prep;
     const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry);
     r.fps = seq->fps;
@@ -277,7 +287,8 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     std::vector<std::unique_ptr<FrameSink>> sinks;
     if (job.palette == 0)
         for (const auto& o : job.outputs)
-            sinks.push_back(make_frame_sink(o, r.render.width, r.render.height, {seq->fps, job.exposure, job.crf}));
+            sinks.push_back(
+                make_frame_sink(o, r.render.width, r.render.height, {seq->fps, job.exposure, job.crf}));
     EncoderThread encoder(std::move(sinks), &r.frames);
     std::vector<std::unique_ptr<RadiositySolver>> solvers = build_solvers(job, p, plan, &r);
     SequenceKept kept;  // with a palette: every frame, 8-bit, until all have added to the histogram
@@ -314,8 +325,9 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                   {"samples_per_axis", r.render.samples},
                   {"exposure_stops", job.exposure},
                   {"crf", job.crf}};
-    j["left_out"] = left_out_json(r.prep->options, r.prep->ff.stats,
-                                  {r.factorisations, 3 * r.reflectance_sets, r.channel_solves, 3 * r.substitutions, false});
+    j["left_out"] = left_out_json(
+        r.prep->options, r.prep->ff.stats,
+        {r.factorisations, 3 * r.reflectance_sets, r.channel_solves, 3 * r.substitutions, false});
     j["solve"] = solve_json(job.solver, r.stability, r.residual);
     j["solve"]["energy_balance_error"] = r.prep->scene.closed ? json(r.energy_balance_error) : json(nullptr);
     j["totals"] = {{"load_s", r.load_s},
@@ -348,30 +360,35 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                                            {{"median-cut", r.palette.psnr_median_cut_db},
                                             {"popularity", r.palette.psnr_popularity_db}}},
                                           {"seconds", r.palette.seconds}}
-                                    : json(nullptr);
+                                   : json(nullptr);
     return j.dump(2);
 }
 
 std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
     const std::size_t n = r.frames.size();
-    std::string s = fmt::format("radiosa render {} ({} patches), sequence {}: {} frames at {} fps\n", r.scene_path,
-                                r.prep->geometry.patch_count(), job.sequence_path, n, static_cast<int>(r.fps));
+    std::string s =
+        fmt::format("radiosa render {} ({} patches), sequence {}: {} frames at {} fps\n", r.scene_path,
+                    r.prep->geometry.patch_count(), job.sequence_path, n, static_cast<int>(r.fps));
     s += fmt::format("  {:<13} {:8.3f} s\n", "load", r.load_s);
     s += fmt::format("  {:<13} {:8.3f} s  once, cache {}\n", "form factors", r.form_factors_s,
                      cache_status_name(r.prep->cache.status));
-    s += fmt::format("  {:<13} {:8.3f} s  {} reflectance set(s): {} channel factorisation(s); {} distinct "
-                     "state(s) solved: {} channel substitution(s); {} frames\n",
-                     "solve", r.solve_s, r.reflectance_sets, r.factorisations, r.substitutions, r.channel_solves, n);
-    s += fmt::format("  {:<13} {:8.3f} s  {} rendered, {} copied, {}x{}, {} rays/pixel, {} threads\n", "render",
-                     r.render_s, r.renders, r.copies, r.render.width, r.render.height,
+    s += fmt::format(
+        "  {:<13} {:8.3f} s  {} reflectance set(s): {} channel factorisation(s); {} distinct "
+        "state(s) solved: {} channel substitution(s); {} frames\n",
+        "solve", r.solve_s, r.reflectance_sets, r.factorisations, r.substitutions, r.channel_solves, n);
+    s += fmt::format("  {:<13} {:8.3f} s  {} rendered, {} copied, {}x{}, {} rays/pixel, {} threads\n",
+                     "render", r.render_s, r.renders, r.copies, r.render.width, r.render.height,
                      r.render.samples * r.render.samples, r.threads);
-    s += fmt::format("  {:<13} {:8.3f} s  (on its own thread, overlapping rendering)\n", "encode", r.encode_s);
-    s += fmt::format("  {:<13} {:8.3f} s  ({:.1f} frames/s)\n", "total", r.total_s, n / std::max(r.total_s, 1e-9));
+    s +=
+        fmt::format("  {:<13} {:8.3f} s  (on its own thread, overlapping rendering)\n", "encode", r.encode_s);
+    s += fmt::format("  {:<13} {:8.3f} s  ({:.1f} frames/s)\n", "total", r.total_s,
+                     n / std::max(r.total_s, 1e-9));
     if (job.palette > 0)
-        s += fmt::format("  {:<13} {:8.3f} s  {} colours ({}) for all frames; PSNR vs true colour: median cut {:.2f} "
-                         "dB, popularity {:.2f} dB\n",
-                         "palette", r.palette.seconds, r.palette.colours, quantiser_name(job.quantiser),
-                         r.palette.psnr_median_cut_db, r.palette.psnr_popularity_db);
+        s += fmt::format(
+            "  {:<13} {:8.3f} s  {} colours ({}) for all frames; PSNR vs true colour: median cut {:.2f} "
+            "dB, popularity {:.2f} dB\n",
+            "palette", r.palette.seconds, r.palette.colours, quantiser_name(job.quantiser),
+            r.palette.psnr_median_cut_db, r.palette.psnr_popularity_db);
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

@@ -33,7 +33,7 @@ struct SequenceJob {
     Quantiser quantiser = Quantiser::MedianCut;
     int threads = 0;
     WarningSink warn = [](const std::string&) {};
-    std::ostream* progress = nullptr;  // a terminal: progress bar with rate and ETA
+    std::ostream* progress = nullptr;                 // a terminal: progress bar with rate and ETA
     std::function<void(int, const Image&)> on_frame;  // sees every frame (tests)
 };
 
@@ -49,7 +49,8 @@ struct SequenceReport {
     RenderOptions render;            // as resolved
     int threads = 0;
     double fps = 0;
-    int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0, copies = 0;
+    int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0,
+        copies = 0;
     // Over every factorisation and solution of the plan: the worst stability figures, residual
     // and energy balance (closed scenes).
     StabilitySummary stability;

@@ -85,13 +85,13 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
                   {"height", job.render.height},
                   {"samples_per_axis", job.render.samples},
                   {"exposure_stops", job.exposure}};
-    j["timings"] = {{"load_s", r.times.load_s},     {"form_factors_s", r.times.form_factors_s},
-                    {"solve_s", r.times.solve_s},   {"render_s", r.times.render_s},
-                    {"write_s", r.times.write_s},   {"total_s", r.times.total_s}};
+    j["timings"] = {{"load_s", r.times.load_s},   {"form_factors_s", r.times.form_factors_s},
+                    {"solve_s", r.times.solve_s}, {"render_s", r.times.render_s},
+                    {"write_s", r.times.write_s}, {"total_s", r.times.total_s}};
     // Energy balance only means something for a closed scene.
     j["energy_balance_error"] = r.prep.scene.closed ? json(r.solve.energy_balance_error) : json(nullptr);
-    j["left_out"] = left_out_json(r.prep.options, r.prep.ff.stats,
-                                  {r.factorisations, 3, r.channel_solves, 3, r.dark});
+    j["left_out"] =
+        left_out_json(r.prep.options, r.prep.ff.stats, {r.factorisations, 3, r.channel_solves, 3, r.dark});
     json& solve = j["solve"] = solve_json(job.solver, r.stability, r.solve.residual);
     solve["skipped"] = r.dark ? json("no emission: the image is black") : json(nullptr);
     solve["factorisations"] = r.factorisations;
@@ -113,9 +113,11 @@ std::string still_summary(const StillJob& job, const StillReport& r) {
                      r.times.solve_s, solver_method_name(job.solver), r.factorisations, r.solve.residual);
     s += fmt::format("  {:<13} {:8.3f} s  {}x{}, {} rays/pixel, {} threads\n", "render", r.times.render_s,
                      job.render.width, job.render.height, job.render.samples * job.render.samples, r.threads);
-    s += fmt::format("  {:<13} {:8.3f} s\n  {:<13} {:8.3f} s\n", "write", r.times.write_s, "total", r.times.total_s);
+    s += fmt::format("  {:<13} {:8.3f} s\n  {:<13} {:8.3f} s\n", "write", r.times.write_s, "total",
+                     r.times.total_s);
     if (p.scene.closed)
-        s += fmt::format("  energy balance |emitted - absorbed| / emitted = {:.2e}\n", r.solve.energy_balance_error);
+        s += fmt::format("  energy balance |emitted - absorbed| / emitted = {:.2e}\n",
+                         r.solve.energy_balance_error);
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

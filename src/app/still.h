@@ -20,8 +20,8 @@ struct StillJob {
     RenderOptions render;
     FormFactorRequest form_factors;
     SolverMethod solver = SolverMethod::LU;
-    double exposure = 0.0;             // stops; PNG value = radiosity * 2^exposure
-    int threads = 0;                   // 0 = all cores
+    double exposure = 0.0;                         // stops; PNG value = radiosity * 2^exposure
+    int threads = 0;                               // 0 = all cores
     WarningSink warn = [](const std::string&) {};  // one-line warnings (damaged cache, ...)
 };
 
@@ -30,13 +30,13 @@ struct StageTimes {
 };
 
 struct StillReport {
-    Prepared prep;                    // scene, geometry, form factors, their cache and checks
+    Prepared prep;  // scene, geometry, form factors, their cache and checks
     int threads = 0;
     int factorisations = 0;
-    int channel_solves = 0;           // substitutions run; channels identical to another share one
-    bool dark = false;                // no emission anywhere: no solve
-    int iterations = 0;               // iterative solvers: sweeps needed
-    StabilitySummary stability;       // spectral radius of rho F and LU condition, max over channels
+    int channel_solves = 0;      // substitutions run; channels identical to another share one
+    bool dark = false;           // no emission anywhere: no solve
+    int iterations = 0;          // iterative solvers: sweeps needed
+    StabilitySummary stability;  // spectral radius of rho F and LU condition, max over channels
     SolveDiagnostics solve;
     StageTimes times;
 };

@@ -12,11 +12,11 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "util/bytes.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "surfaces/registry.h"
 #include "util/atomic_file.h"
+#include "util/bytes.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
 
@@ -58,12 +58,13 @@ Header read_header(ByteReader& in) {
     Header h;
     h.info.format_version = in.u32();
     if (h.info.format_version != kCacheFormatVersion)
-        throw CacheFileError("file format version " + std::to_string(h.info.format_version) + ", this build reads " +
-                             std::to_string(kCacheFormatVersion));
+        throw CacheFileError("file format version " + std::to_string(h.info.format_version) +
+                             ", this build reads " + std::to_string(kCacheFormatVersion));
     h.info.algorithm_version = in.u32();
     if (h.info.algorithm_version != kFormFactorAlgorithmVersion)
-        throw CacheFileError("computed by form-factor algorithm version " + std::to_string(h.info.algorithm_version) +
-                             ", this build is version " + std::to_string(kFormFactorAlgorithmVersion));
+        throw CacheFileError("computed by form-factor algorithm version " +
+                             std::to_string(h.info.algorithm_version) + ", this build is version " +
+                             std::to_string(kFormFactorAlgorithmVersion));
     std::memcpy(h.info.key.bytes.data(), in.take(16), 16);
     h.info.scene_name = in.str();
     h.info.patches = in.u64();
@@ -74,9 +75,11 @@ Header read_header(ByteReader& in) {
     h.flags = in.u32();
     h.stored = in.u64();
     h.raw = in.u64();
-    if (h.element != kElementFloat64) throw CacheFileError("unsupported element type " + std::to_string(h.element));
+    if (h.element != kElementFloat64)
+        throw CacheFileError("unsupported element type " + std::to_string(h.element));
     if (h.layout > kLayoutCsr) throw CacheFileError("unknown matrix layout " + std::to_string(h.layout));
-    if (h.compression > kCompressZstd) throw CacheFileError("unknown compression " + std::to_string(h.compression));
+    if (h.compression > kCompressZstd)
+        throw CacheFileError("unknown compression " + std::to_string(h.compression));
     if (h.info.patches > static_cast<std::uint64_t>(kMaxPatches) || h.info.surfaces > h.info.patches)
         throw CacheFileError("implausible patch count " + std::to_string(h.info.patches));
     h.info.layout = h.layout == kLayoutDense ? "dense" : "csr";
@@ -232,8 +235,8 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
         if (trailer.u64() != checksum(bytes.data(), body))
             throw CacheFileError("checksum mismatch (the file is damaged or truncated)");
         if (expected_key && h.info.key != *expected_key)
-            throw CacheFileError("holds key " + h.info.key.hex() + ", not this scene's " + expected_key->hex() +
-                                 " (a file from another scene or settings)");
+            throw CacheFileError("holds key " + h.info.key.hex() + ", not this scene's " +
+                                 expected_key->hex() + " (a file from another scene or settings)");
         if (info_out) *info_out = h.info;
 
         const std::size_t n = h.info.patches;
@@ -252,7 +255,8 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
         };
         if (geometry) {
             if (static_cast<std::size_t>(geometry->patch_count()) != n)
-                throw mismatch(std::to_string(n) + " patches, the scene has " + std::to_string(geometry->patch_count()));
+                throw mismatch(std::to_string(n) + " patches, the scene has " +
+                               std::to_string(geometry->patch_count()));
             if (static_cast<std::size_t>(geometry->surface_count()) != h.info.surfaces)
                 throw mismatch(std::to_string(h.info.surfaces) + " surfaces, the scene has " +
                                std::to_string(geometry->surface_count()));
@@ -264,22 +268,24 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
         for (std::size_t i = 0; i < n; ++i) {
             const std::uint32_t s = in.u32(), is = in.u32(), it = in.u32();
             ff.area[i] = in.f64();
-            if (s >= h.info.surfaces || is >= ns[s] || it >= nt[s] || !(ff.area[i] > 0.0) || !std::isfinite(ff.area[i]))
+            if (s >= h.info.surfaces || is >= ns[s] || it >= nt[s] || !(ff.area[i] > 0.0) ||
+                !std::isfinite(ff.area[i]))
                 throw CacheFileError("patch table entry " + std::to_string(i) + " is invalid");
             if (geometry) {
                 const Patch& p = geometry->patch(static_cast<int>(i));
-                if (static_cast<int>(s) != p.surface || static_cast<int>(is) != p.is || static_cast<int>(it) != p.it ||
-                    std::abs(ff.area[i] - p.area) > 1e-12 * p.area)
+                if (static_cast<int>(s) != p.surface || static_cast<int>(is) != p.is ||
+                    static_cast<int>(it) != p.it || std::abs(ff.area[i] - p.area) > 1e-12 * p.area)
                     throw mismatch("patch " + std::to_string(i) + " differs");
             }
         }
         const int gauss_points = static_cast<int>(in.u32());
         const double tolerance = in.f64();
-        ff.options = gauss_points > 0 ? FormFactorOptions::gauss(gauss_points) : FormFactorOptions::adaptive(tolerance);
+        ff.options = gauss_points > 0 ? FormFactorOptions::gauss(gauss_points)
+                                      : FormFactorOptions::adaptive(tolerance);
         ff.stats.for_each_counter([&](const char*, long long& v) { v = in.i64(); });
         if (h.stored != in.remaining() - 8)
-            throw CacheFileError("matrix section is " + std::to_string(in.remaining() - 8) + " bytes, header says " +
-                                 std::to_string(h.stored));
+            throw CacheFileError("matrix section is " + std::to_string(in.remaining() - 8) +
+                                 " bytes, header says " + std::to_string(h.stored));
 
         std::vector<std::uint8_t> unpacked;
         const std::uint8_t* sec = in.take(h.stored);
@@ -288,7 +294,8 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
             if (h.raw > 16 * n * n + 8 * (n + 1) + 64) throw CacheFileError("implausible uncompressed size");
             unpacked.resize(h.raw);
             const std::size_t got = ZSTD_decompress(unpacked.data(), unpacked.size(), sec, sec_size);
-            if (ZSTD_isError(got) || got != h.raw) throw CacheFileError("compressed matrix does not decompress");
+            if (ZSTD_isError(got) || got != h.raw)
+                throw CacheFileError("compressed matrix does not decompress");
             sec = unpacked.data();
             sec_size = unpacked.size();
         }
@@ -336,10 +343,14 @@ fs::path default_cache_dir() {
 
 const char* cache_status_name(CacheStatus s) {
     switch (s) {
-        case CacheStatus::Off: return "off";
-        case CacheStatus::Hit: return "hit";
-        case CacheStatus::Miss: return "miss";
-        case CacheStatus::Rebuilt: return "rebuilt";
+        case CacheStatus::Off:
+            return "off";
+        case CacheStatus::Hit:
+            return "hit";
+        case CacheStatus::Miss:
+            return "miss";
+        case CacheStatus::Rebuilt:
+            return "rebuilt";
     }
     return "?";
 }
@@ -375,8 +386,9 @@ private:
 
 }  // namespace
 
-FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
-                                const CacheSettings& settings, const WarningSink& warn, CacheOutcome* outcome) {
+FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
+                                const FormFactorOptions& options, const CacheSettings& settings,
+                                const WarningSink& warn, CacheOutcome* outcome) {
     CacheOutcome o;
     auto finish = [&](FormFactors ff) {
         if (outcome) *outcome = o;

@@ -106,7 +106,8 @@ struct CacheOutcome {
 // it. Damaged, stale or foreign files are reported through `warn` (one line each) and rebuilt;
 // an unwritable cache is reported and the run goes on. Concurrent processes computing the same
 // key serialise on a lock file, so the matrix is computed once and the file written once.
-FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
-                                const CacheSettings& settings, const WarningSink& warn, CacheOutcome* outcome);
+FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
+                                const FormFactorOptions& options, const CacheSettings& settings,
+                                const WarningSink& warn, CacheOutcome* outcome);
 
 }  // namespace radiosa

@@ -1,17 +1,17 @@
 // The form-factor cache: what the key includes and leaves out, exact round trips, and every
 // kind of damaged or foreign file detected and rebuilt.
 #include "cache/cache_file.h"
-#include "surfaces/quad.h"
-#include "surfaces/sphere.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <fstream>
 
+#include "../tests/test_scenes.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
-#include "../tests/test_scenes.h"
+#include "surfaces/quad.h"
+#include "surfaces/sphere.h"
 
 namespace radiosa {
 
@@ -43,7 +43,8 @@ std::vector<std::uint8_t> slurp(const fs::path& p) {
     return {std::istreambuf_iterator<char>(in), {}};
 }
 void spit(const fs::path& p, const std::vector<std::uint8_t>& b) {
-    std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), static_cast<long>(b.size()));
+    std::ofstream(p, std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<long>(b.size()));
 }
 
 struct Obtained {
@@ -56,14 +57,15 @@ Obtained obtain(const Scene& scene, const fs::path& dir, int p = 6) {
     const SceneGeometry g(scene);
     CacheSettings cs;
     cs.dir = dir;
-    r.ff = obtain_form_factors(scene, g, opts(p), cs, [&](const std::string& w) { r.warnings.push_back(w); },
-                               &r.outcome);
+    r.ff = obtain_form_factors(
+        scene, g, opts(p), cs, [&](const std::string& w) { r.warnings.push_back(w); }, &r.outcome);
     return r;
 }
 
 // Two plates facing each other: half the matrix is zero but the dense layout is still smaller.
 Scene plates() {
-    return test::scene_of(test::quad("floor", test::kFloor, 2, 1) + test::quad("ceiling", test::kCeiling, 2, 1));
+    return test::scene_of(test::quad("floor", test::kFloor, 2, 1) +
+                          test::quad("ceiling", test::kCeiling, 2, 1));
 }
 
 }  // namespace
@@ -187,7 +189,8 @@ TEST(CacheObtain, DamagedFilesAreDetectedAndRebuilt) {
     cases.push_back({"byte flipped in the matrix", flipped(pristine.size() - 100), "checksum mismatch"});
     cases.push_back({"byte flipped in the key", flipped(20), "checksum mismatch"});
     cases.push_back({"byte flipped in the checksum", flipped(pristine.size() - 1), "checksum mismatch"});
-    cases.push_back({"truncated to half", {pristine.begin(), pristine.begin() + pristine.size() / 2}, "checksum"});
+    cases.push_back(
+        {"truncated to half", {pristine.begin(), pristine.begin() + pristine.size() / 2}, "checksum"});
     cases.push_back({"last byte missing", {pristine.begin(), pristine.end() - 1}, "checksum"});
     cases.push_back({"truncated in the header", {pristine.begin(), pristine.begin() + 30}, "truncated"});
     cases.push_back({"empty", {}, "truncated"});
@@ -239,7 +242,8 @@ TEST(CacheObtain, OffComputesAndWritesNothing) {
     cs.dir = d;
     cs.enabled = false;
     CacheOutcome o;
-    const FormFactors ff = obtain_form_factors(scene, g, opts(), cs, [](const std::string&) {}, &o);
+    const FormFactors ff = obtain_form_factors(
+        scene, g, opts(), cs, [](const std::string&) {}, &o);
     EXPECT_EQ(o.status, CacheStatus::Off);
     EXPECT_GT(o.compute_s, 0.0);
     EXPECT_EQ(ff.F.n, 86);
@@ -254,8 +258,10 @@ TEST(CacheObtain, DefaultDirectoryFollowsTheEnvironment) {
     EXPECT_EQ(default_cache_dir(), fs::path("/some/where"));
     ::setenv("RADIOSA_CACHE_DIR", "", 1);
     EXPECT_EQ(default_cache_dir(), fs::path("out/cache"));
-    if (saved) ::setenv("RADIOSA_CACHE_DIR", keep.c_str(), 1);
-    else ::unsetenv("RADIOSA_CACHE_DIR");
+    if (saved)
+        ::setenv("RADIOSA_CACHE_DIR", keep.c_str(), 1);
+    else
+        ::unsetenv("RADIOSA_CACHE_DIR");
 }
 
 }  // namespace radiosa

@@ -10,8 +10,8 @@
 namespace radiosa::media {
 namespace {
 
-void write_gif(const std::string& path, int width, int height, double fps, const std::vector<Colour8>& palette,
-               const std::vector<std::vector<std::uint8_t>>& frames) {
+void write_gif(const std::string& path, int width, int height, double fps,
+               const std::vector<Colour8>& palette, const std::vector<std::vector<std::uint8_t>>& frames) {
     GifWriter gif(path, width, height, fps, palette);
     for (const auto& f : frames) gif.add_frame(f);
     gif.finish();

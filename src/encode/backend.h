@@ -15,9 +15,10 @@ struct EncodeBackend {
     void (*write_image)(const Image& image, const std::string& path, double exposure_stops);
     std::unique_ptr<FrameSink> (*make_frame_sink)(const std::string& path, int width, int height,
                                                   const SinkOptions& options);
-    void (*write_indexed_png)(const std::string& path, int width, int height, const std::vector<std::uint8_t>& index,
-                              const std::vector<Colour8>& palette);
-    void (*write_gif)(const std::string& path, int width, int height, double fps, const std::vector<Colour8>& palette,
+    void (*write_indexed_png)(const std::string& path, int width, int height,
+                              const std::vector<std::uint8_t>& index, const std::vector<Colour8>& palette);
+    void (*write_gif)(const std::string& path, int width, int height, double fps,
+                      const std::vector<Colour8>& palette,
                       const std::vector<std::vector<std::uint8_t>>& frames);
 };
 

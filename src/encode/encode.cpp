@@ -35,9 +35,10 @@ const EncodeBackend& load_backend() {
     if (!entry) {
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);  // never closed
         if (!handle)
-            throw Error(fmt::format("cannot load the image and video writers ({}); rebuild radiosa with "
-                                    "'cmake --build build', which builds it beside the executable",
-                                    dlerror()));
+            throw Error(
+                fmt::format("cannot load the image and video writers ({}); rebuild radiosa with "
+                            "'cmake --build build', which builds it beside the executable",
+                            dlerror()));
         entry = reinterpret_cast<Entry>(dlsym(handle, "radiosa_encode_backend"));
     }
     const EncodeBackend* b = entry ? entry() : nullptr;
@@ -75,8 +76,8 @@ void write_indexed_png(const std::string& path, int width, int height, const std
     backend().write_indexed_png(path, width, height, index, palette);
 }
 
-void write_gif(const std::string& path, int width, int height, double fps, const std::vector<Colour8>& palette,
-               const std::vector<std::vector<std::uint8_t>>& frames) {
+void write_gif(const std::string& path, int width, int height, double fps,
+               const std::vector<Colour8>& palette, const std::vector<std::vector<std::uint8_t>>& frames) {
     backend().write_gif(path, width, height, fps, palette, frames);
 }
 

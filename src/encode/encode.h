@@ -40,12 +40,13 @@ void check_sequence_output(const std::string& path, int width, int height);
 // .exr: linear radiosity, 32-bit float, unscaled. Others (.png, .jpg, .tif): 8-bit sRGB of
 // radiosity * 2^exposure clamped to [0, 1]: radiosity 1.0 is display white at exposure 0.
 void write_image(const Image& image, const std::string& path, double exposure_stops);
-std::unique_ptr<FrameSink> make_frame_sink(const std::string& path, int width, int height, const SinkOptions& options);
+std::unique_ptr<FrameSink> make_frame_sink(const std::string& path, int width, int height,
+                                           const SinkOptions& options);
 // Palette outputs: one indexed PNG, or a GIF of all frames (libav builds only).
 void write_indexed_png(const std::string& path, int width, int height, const std::vector<std::uint8_t>& index,
                        const std::vector<Colour8>& palette);
-void write_gif(const std::string& path, int width, int height, double fps, const std::vector<Colour8>& palette,
-               const std::vector<std::vector<std::uint8_t>>& frames);
+void write_gif(const std::string& path, int width, int height, double fps,
+               const std::vector<Colour8>& palette, const std::vector<std::vector<std::uint8_t>>& frames);
 
 // ---- computed here, no plugin needed ----
 

@@ -13,7 +13,8 @@ inline constexpr bool kHasVideo = RADIOSA_HAS_VIDEO != 0;
 
 // The message every libav-only output gives in a build without it.
 inline constexpr const char* kNoVideoMessage =
-    "this build of radiosa has no video or palette encoder (configured with -DRADIOSA_VIDEO=OFF): write numbered "
+    "this build of radiosa has no video or palette encoder (configured with -DRADIOSA_VIDEO=OFF): write "
+    "numbered "
     "images such as out/frames/%04d.png, or rebuild with -DRADIOSA_VIDEO=ON (needs libavcodec-dev, "
     "libavformat-dev, libswscale-dev)";
 

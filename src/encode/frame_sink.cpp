@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "encode/video_writer.h"
 #include "encode/image_io.h"
+#include "encode/video_writer.h"
 #include "util/error.h"
 
 namespace radiosa::media {
@@ -38,8 +38,11 @@ private:
 
 class ImageSequenceSink : public FrameSink {
 public:
-    ImageSequenceSink(std::string pattern, double exposure) : m_pattern(std::move(pattern)), m_exposure(exposure) {}
-    void write(int frame, const Image& image) override { media::write_image(image, frame_path(m_pattern, frame), m_exposure); }
+    ImageSequenceSink(std::string pattern, double exposure)
+        : m_pattern(std::move(pattern)), m_exposure(exposure) {}
+    void write(int frame, const Image& image) override {
+        media::write_image(image, frame_path(m_pattern, frame), m_exposure);
+    }
     void finish() override {}
 
 private:
@@ -62,8 +65,9 @@ void check_sequence_output(const std::string& path, int width, int height) {
     if (ok && end < path.size() && std::isdigit(static_cast<unsigned char>(path[end]))) ++end;
     ok = ok && end < path.size() && path[end] == 'd' && path.find('%', end) == std::string::npos;
     if (!ok)
-        throw Error(path + ": a sequence is written as a video (.mp4) or as numbered images with one %d or %04d "
-                           "in the name, e.g. out/frames/%04d.png");
+        throw Error(path +
+                    ": a sequence is written as a video (.mp4) or as numbered images with one %d or %04d "
+                    "in the name, e.g. out/frames/%04d.png");
     check_image_output(frame_path(path, 0));
 }
 

@@ -5,6 +5,7 @@
 namespace radiosa::media {
 
 void check_sequence_output(const std::string& path, int width, int height);
-std::unique_ptr<FrameSink> make_frame_sink(const std::string& path, int width, int height, const SinkOptions& options);
+std::unique_ptr<FrameSink> make_frame_sink(const std::string& path, int width, int height,
+                                           const SinkOptions& options);
 
 }  // namespace radiosa::media

@@ -67,7 +67,8 @@ Image read_image(const std::string& path) {
         throw Error(path + ": cannot decode image: " + in->geterror());
     img.rgb.resize(static_cast<size_t>(spec.width) * spec.height * 3);
     for (size_t p = 0; p < static_cast<size_t>(spec.width) * spec.height; ++p)
-        for (int c = 0; c < 3; ++c) img.rgb[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+        for (int c = 0; c < 3; ++c)
+            img.rgb[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
     return img;
 }
 

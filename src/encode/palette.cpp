@@ -1,8 +1,8 @@
 #include "encode/palette.h"
 
-#include <cstdint>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 #include "util/error.h"
@@ -63,7 +63,8 @@ std::vector<Colour8> ColourHistogram::palette(int colours, Quantiser q) const {
             for (int k = 0; k < 3; ++k) s[k] += m_sum[c][k];
         }
         Colour8 out{};
-        for (int k = 0; k < 3; ++k) out[k] = static_cast<std::uint8_t>((s[k] + n / 2) / std::max<std::uint64_t>(n, 1));
+        for (int k = 0; k < 3; ++k)
+            out[k] = static_cast<std::uint8_t>((s[k] + n / 2) / std::max<std::uint64_t>(n, 1));
         return out;
     };
     std::vector<int> occupied;
@@ -71,8 +72,10 @@ std::vector<Colour8> ColourHistogram::palette(int colours, Quantiser q) const {
         if (m_count[c]) occupied.push_back(c);
     std::vector<Colour8> pal;
     if (q == Quantiser::Popularity) {
-        std::stable_sort(occupied.begin(), occupied.end(), [&](int a, int b) { return m_count[a] > m_count[b]; });
-        for (int k = 0; k < std::min<int>(colours, static_cast<int>(occupied.size())); ++k) pal.push_back(mean({occupied[k]}));
+        std::stable_sort(occupied.begin(), occupied.end(),
+                         [&](int a, int b) { return m_count[a] > m_count[b]; });
+        for (int k = 0; k < std::min<int>(colours, static_cast<int>(occupied.size())); ++k)
+            pal.push_back(mean({occupied[k]}));
         return pal;
     }
     std::vector<MedianCut::Box> boxes(1);
@@ -88,7 +91,8 @@ std::vector<Colour8> ColourHistogram::palette(int colours, Quantiser q) const {
         if (best < 0) break;
         MedianCut::Box& b = boxes[best];
         const int shift = b.axis == 0 ? 10 : b.axis == 1 ? 5 : 0;
-        std::sort(b.cells.begin(), b.cells.end(), [&](int x, int y) { return ((x >> shift) & 31) < ((y >> shift) & 31); });
+        std::sort(b.cells.begin(), b.cells.end(),
+                  [&](int x, int y) { return ((x >> shift) & 31) < ((y >> shift) & 31); });
         // Cut at the median pixel, never leaving a side empty and never between equal coordinates.
         std::uint64_t acc = 0;
         std::size_t cut = 1;
@@ -97,10 +101,12 @@ std::vector<Colour8> ColourHistogram::palette(int colours, Quantiser q) const {
             cut = i + 1;
             if (acc * 2 >= b.pixels) break;
         }
-        while (cut < b.cells.size() && ((b.cells[cut] >> shift) & 31) == ((b.cells[cut - 1] >> shift) & 31)) ++cut;
+        while (cut < b.cells.size() && ((b.cells[cut] >> shift) & 31) == ((b.cells[cut - 1] >> shift) & 31))
+            ++cut;
         if (cut == b.cells.size()) {
             cut = 1;
-            while (cut < b.cells.size() && ((b.cells[cut] >> shift) & 31) == ((b.cells[0] >> shift) & 31)) ++cut;
+            while (cut < b.cells.size() && ((b.cells[cut] >> shift) & 31) == ((b.cells[0] >> shift) & 31))
+                ++cut;
         }
         MedianCut::Box upper;
         upper.cells.assign(b.cells.begin() + static_cast<long>(cut), b.cells.end());

@@ -12,14 +12,13 @@ extern "C" {
 #include <cmath>
 #include <cstdint>
 
-#include "util/atomic_file.h"
 #include "encode/av_error.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace radiosa::media {
 
 namespace {
-
 
 // An encoder context for PAL8 frames with `codec_id`, and one reusable frame.
 struct Pal8Encoder {
@@ -126,13 +125,15 @@ GifWriter::GifWriter(const std::string& path, int w, int h, double fps, const st
     {
         check_output_path(path);
         const std::string temp = m->file.temp_path().string();
-        av_check(avformat_alloc_output_context2(&m->fmt, nullptr, "gif", temp.c_str()), "avformat_alloc_output_context2", path);
+        av_check(avformat_alloc_output_context2(&m->fmt, nullptr, "gif", temp.c_str()),
+                 "avformat_alloc_output_context2", path);
         m->stream = avformat_new_stream(m->fmt, nullptr);
         if (!m->stream) throw Error(path + ": avformat_new_stream failed");
         // GIF delays are in centiseconds.
         m->enc = std::make_unique<Pal8Encoder>(AV_CODEC_ID_GIF, w, h, AVRational{1, 100}, palette, path,
                                                (m->fmt->oformat->flags & AVFMT_GLOBALHEADER) != 0);
-        av_check(avcodec_parameters_from_context(m->stream->codecpar, m->enc->ctx), "avcodec_parameters_from_context", path);
+        av_check(avcodec_parameters_from_context(m->stream->codecpar, m->enc->ctx),
+                 "avcodec_parameters_from_context", path);
         m->stream->time_base = AVRational{1, 100};
         av_check(avio_open(&m->fmt->pb, temp.c_str(), AVIO_FLAG_WRITE), "avio_open", path);
         m->io_open = true;

@@ -12,7 +12,8 @@ void write_indexed_png(const std::string& path, int width, int height, const std
                        const std::vector<Colour8>& palette);
 class GifWriter {
 public:
-    GifWriter(const std::string& path, int width, int height, double fps, const std::vector<Colour8>& palette);
+    GifWriter(const std::string& path, int width, int height, double fps,
+              const std::vector<Colour8>& palette);
     ~GifWriter();
     void add_frame(const std::vector<std::uint8_t>& index);
     void finish();

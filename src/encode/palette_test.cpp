@@ -1,14 +1,14 @@
 // Palette quantisers, the mapper, PSNR, and indexed outputs read back.
-#include "encode/features.h"
 #include "encode/palette.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "encode/video_writer.h"
 #include "encode/encode.h"
+#include "encode/features.h"
 #include "encode/image_io.h"
+#include "encode/video_writer.h"
 
 namespace radiosa {
 
@@ -20,7 +20,8 @@ std::vector<std::uint8_t> test_frame(int w, int h) {
         for (int x = 0; x < w; ++x) {
             const bool spot = x < 4 && y < 4;
             const std::uint8_t v = static_cast<std::uint8_t>(x * 255 / (w - 1));
-            rgb.insert(rgb.end(), {spot ? std::uint8_t(255) : v, spot ? std::uint8_t(40) : v, spot ? std::uint8_t(0) : v});
+            rgb.insert(rgb.end(), {spot ? std::uint8_t(255) : v, spot ? std::uint8_t(40) : v,
+                                   spot ? std::uint8_t(0) : v});
         }
     return rgb;
 }

@@ -12,8 +12,8 @@ extern "C" {
 #include <cmath>
 #include <string>
 
-#include "util/atomic_file.h"
 #include "encode/av_error.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 
 namespace radiosa::media {
@@ -59,16 +59,16 @@ struct VideoWriter::Impl {
 void check_video_output(const fs::path& path, int width, int height) {
     check_output_path(path);
     if (width % 2 || height % 2)
-        throw Error(path.string() + ": H.264 in yuv420p needs an even width and height, got " + std::to_string(width) +
-                    "x" + std::to_string(height) + " (use --width/--height)");
+        throw Error(path.string() + ": H.264 in yuv420p needs an even width and height, got " +
+                    std::to_string(width) + "x" + std::to_string(height) + " (use --width/--height)");
 }
 
 VideoWriter::VideoWriter(const fs::path& path, const VideoOptions& o) : m(std::make_unique<Impl>(path)) {
     check_video_output(path, o.width, o.height);
     av_log_set_level(AV_LOG_ERROR);  // libx264's statistics are not for our users
     const std::string temp = m->file.temp_path().string();
-    av_check(avformat_alloc_output_context2(&m->fmt, nullptr, "mp4", temp.c_str()), "avformat_alloc_output_context2",
-          path);
+    av_check(avformat_alloc_output_context2(&m->fmt, nullptr, "mp4", temp.c_str()),
+             "avformat_alloc_output_context2", path);
     const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
     if (!codec) codec = avcodec_find_encoder(AV_CODEC_ID_H264);
     if (!codec) throw Error(path.string() + ": avcodec_find_encoder: this FFmpeg has no H.264 encoder");
@@ -94,10 +94,12 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoOptions& o) : m(std::m
     if (m->fmt->oformat->flags & AVFMT_GLOBALHEADER) m->ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
     if (std::string(codec->name) == "libx264") {
         av_check(av_opt_set(m->ctx->priv_data, "preset", o.preset, 0), "av_opt_set(preset)", path);
-        av_check(av_opt_set(m->ctx->priv_data, "crf", std::to_string(o.crf).c_str(), 0), "av_opt_set(crf)", path);
+        av_check(av_opt_set(m->ctx->priv_data, "crf", std::to_string(o.crf).c_str(), 0), "av_opt_set(crf)",
+                 path);
     }
     av_check(avcodec_open2(m->ctx, codec, nullptr), "avcodec_open2", path);
-    av_check(avcodec_parameters_from_context(m->stream->codecpar, m->ctx), "avcodec_parameters_from_context", path);
+    av_check(avcodec_parameters_from_context(m->stream->codecpar, m->ctx), "avcodec_parameters_from_context",
+             path);
     m->stream->time_base = m->ctx->time_base;
     m->stream->avg_frame_rate = rate;
     av_check(avio_open(&m->fmt->pb, temp.c_str(), AVIO_FLAG_WRITE), "avio_open", path);
@@ -121,8 +123,8 @@ VideoWriter::VideoWriter(const fs::path& path, const VideoOptions& o) : m(std::m
     if (!m->sws) throw Error(path.string() + ": sws_getContext failed");
     // swscale defaults to BT.601; the stream is tagged BT.709, so convert with BT.709.
     const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-    av_check(sws_setColorspaceDetails(m->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16), "sws_setColorspaceDetails",
-          path);
+    av_check(sws_setColorspaceDetails(m->sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16),
+             "sws_setColorspaceDetails", path);
 }
 
 VideoWriter::~VideoWriter() = default;
@@ -160,7 +162,8 @@ VideoProbe probe_video(const fs::path& path) {
         ~Closer() { avformat_close_input(f); }
     } closer{&fmt};
     av_check(avformat_find_stream_info(fmt, nullptr), "avformat_find_stream_info", path);
-    const int si = av_check(av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0), "av_find_best_stream", path);
+    const int si = av_check(av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0),
+                            "av_find_best_stream", path);
     const AVStream* st = fmt->streams[si];
     p.duration_s = fmt->duration > 0 ? fmt->duration / static_cast<double>(AV_TIME_BASE) : 0.0;
     p.fps = av_q2d(st->avg_frame_rate);

@@ -15,7 +15,7 @@ namespace radiosa::media {
 struct VideoOptions {
     int width = 0, height = 0;  // both even (yuv420p)
     double fps = 30.0;
-    int crf = 18;               // x264 constant rate factor: 0 lossless ... 51 worst; 18 ~ visually lossless
+    int crf = 18;  // x264 constant rate factor: 0 lossless ... 51 worst; 18 ~ visually lossless
     const char* preset = "medium";
 };
 

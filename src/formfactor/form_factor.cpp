@@ -1,21 +1,20 @@
 #include "formfactor/form_factor.h"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <optional>
 
-#include <fmt/format.h>
-
 #include "formfactor/point_polygon.h"
-#include "scene/scene.h"
 #include "geometry/scene_geometry.h"
+#include "scene/scene.h"
 #include "util/gauss_legendre.h"
 #include "util/stopwatch.h"
 
@@ -114,13 +113,16 @@ public:
                 out->push_back(k);
                 continue;
             }
-            if (on_i && on_j) can_block = !s.chords_never_cross();
-            else if (on_i || on_j) can_block = !s.front_segments_escape();
+            if (on_i && on_j)
+                can_block = !s.chords_never_cross();
+            else if (on_i || on_j)
+                can_block = !s.front_segments_escape();
             if (can_block)
                 if (auto pl = s.plane()) {
                     // A segment between points on one closed side of a plane cannot cross it.
                     const auto ei = extent(pi, *pl), ej = extent(pj, *pl);
-                    if ((ei.first >= -m_eps && ej.first >= -m_eps) || (ei.second <= m_eps && ej.second <= m_eps))
+                    if ((ei.first >= -m_eps && ej.first >= -m_eps) ||
+                        (ei.second <= m_eps && ej.second <= m_eps))
                         can_block = false;
                 }
             if (can_block) {
@@ -130,8 +132,10 @@ public:
                 if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach)
                     can_block = false;
             }
-            if (can_block) out->push_back(k);
-            else ++st->occluders_culled;
+            if (can_block)
+                out->push_back(k);
+            else
+                ++st->occluders_culled;
         }
         if (out->empty()) ++st->pairs_unoccluded;
     }
@@ -194,7 +198,6 @@ private:
     double m_eps = 0.0;
 };
 
-
 // ---- error-controlled form factors ----
 
 struct Rect {
@@ -240,7 +243,8 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
         double sum = 0.0;
         for (std::size_t b = 0; b < rule.x.size(); ++b)
             for (std::size_t a = 0; a < rule.x.size(); ++a)
-                sum += rule.w[a] * rule.w[b] * g(r.s0 + hs * (rule.x[a] + 1.0), r.t0 + ht * (rule.x[b] + 1.0));
+                sum +=
+                    rule.w[a] * rule.w[b] * g(r.s0 + hs * (rule.x[a] + 1.0), r.t0 + ht * (rule.x[b] + 1.0));
         return sum * hs * ht;
     };
     struct Region {
@@ -305,7 +309,8 @@ double distance_to_polygon(const Vec3& x, const std::array<Vec3, 4>& v) {
     const double h = glm::dot(x - v[0], m);
     const Vec3 p = x - h * m;
     bool inside = true;
-    for (int k = 0; k < 4 && inside; ++k) inside = glm::dot(glm::cross(v[(k + 1) % 4] - v[k], p - v[k]), m) >= 0.0;
+    for (int k = 0; k < 4 && inside; ++k)
+        inside = glm::dot(glm::cross(v[(k + 1) % 4] - v[k], p - v[k]), m) >= 0.0;
     if (inside) return std::abs(h);
     double d = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 4; ++k) d = std::min(d, distance_to_segment(x, v[k], v[(k + 1) % 4]));
@@ -315,7 +320,12 @@ double distance_to_polygon(const Vec3& x, const std::array<Vec3, 4>& v) {
 class AdaptiveIntegrator {
 public:
     AdaptiveIntegrator(const SceneGeometry& g, const FormFactorOptions& o, const Integrator& base)
-        : m_geo(g), m_opt(o), m_base(base), m_outer(gauss_legendre(4)), m_inner(gauss_legendre(5)), m_inner_fine(gauss_legendre(7)) {}
+        : m_geo(g),
+          m_opt(o),
+          m_base(base),
+          m_outer(gauss_legendre(4)),
+          m_inner(gauss_legendre(5)),
+          m_inner_fine(gauss_legendre(7)) {}
 
     // The planar polygon of patch j, counter-clockwise about its front normal.
     std::array<Vec3, 4> polygon(int j) const {
@@ -329,7 +339,8 @@ public:
 
     // Can F_ij use the closed-form inner integral? j must be planar and nothing may block the
     // pair, except one sphere that lies wholly between patch i and j's plane.
-    bool semi_analytic(int i, int j, const std::vector<int>& blockers, std::optional<BoundingSphere>* blocker) const {
+    bool semi_analytic(int i, int j, const std::vector<int>& blockers,
+                       std::optional<BoundingSphere>* blocker) const {
         const Patch& pj = m_geo.patch(j);
         if (!pj.planar) return false;
         blocker->reset();
@@ -380,14 +391,16 @@ public:
                          d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
             const double dmin = std::min({d00, d10, d01, d11});
             if (!(dmin > 0.0)) return -1;
-            const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01), var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
+            const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01),
+                         var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
             const int dir = var_t > var_s ? 1 : 0;
             const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
                                          : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
             return size > dmin ? dir : -1;
         };
-        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, tol * std::min(pi.area, m_geo.patch(j).area),
-                             kMaxOuterRegions, m_outer, geometric);
+        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1},
+                             tol * std::min(pi.area, m_geo.patch(j).area), kMaxOuterRegions, m_outer,
+                             geometric);
     }
 
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
@@ -441,9 +454,9 @@ public:
             inner_err = std::max(inner_err, kSafety * std::abs(fine - coarse));
             return da * fine;
         };
-        Estimate e = adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * std::min(pi.area, pj.area),
-                                   kMaxNumericRegions, m_outer,
-                                   [](const Rect&) { return -1; });
+        Estimate e =
+            adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * std::min(pi.area, pj.area),
+                          kMaxNumericRegions, m_outer, [](const Rect&) { return -1; });
         e.error += inner_err * pi.area;
         st->segment_tests += tests;
         return e;
@@ -475,8 +488,10 @@ public:
             // large patch toward a small receiver to the same tol x A_small costs far more
             // regions (the accuracy study's cube face toward a sphere of 512 facets: 82 s, not 0.11 s).
             if (fwd && bwd && std::max(ai, aj) > kIndependentAreaRatio * std::min(ai, aj)) {
-                if (ai <= aj) bwd = false;
-                else fwd = false;
+                if (ai <= aj)
+                    bwd = false;
+                else
+                    fwd = false;
             }
             auto set = [&](int a, int b, const Estimate& e, double area_a) {
                 (*F)(a, b) = e.value / area_a;
@@ -546,8 +561,10 @@ FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactor
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& r) {
         FormFactorStats local;
         for (int i = r.begin(); i != r.end(); ++i) {
-            if (controlled) adaptive.row(i, &ff.F, &ff.error, &local);
-            else integrator.row(i, &ff.F, &local);
+            if (controlled)
+                adaptive.row(i, &ff.F, &ff.error, &local);
+            else
+                integrator.row(i, &ff.F, &local);
         }
         std::lock_guard lock(merge);
         total += local;
@@ -569,20 +586,28 @@ FormFactorStats& FormFactorStats::operator+=(const FormFactorStats& o) {
 
 const char* method_name(FormFactorMethod m) {
     switch (m) {
-        case FormFactorMethod::Fixed: return "gauss";
-        case FormFactorMethod::Adaptive: return "adaptive";
+        case FormFactorMethod::Fixed:
+            return "gauss";
+        case FormFactorMethod::Adaptive:
+            return "adaptive";
     }
     return "?";
 }
 
-FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, std::optional<double> tolerance,
-                                              std::optional<int> gauss_points, std::optional<bool> visibility) {
+FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
+                                              std::optional<double> tolerance,
+                                              std::optional<int> gauss_points,
+                                              std::optional<bool> visibility) {
     FormFactorOptions o;
     // The command line first, then the scene file; either names one method.
-    if (gauss_points) o = FormFactorOptions::gauss(*gauss_points);
-    else if (tolerance) o = FormFactorOptions::adaptive(*tolerance);
-    else if (scene.gauss_points) o = FormFactorOptions::gauss(*scene.gauss_points);
-    else o = FormFactorOptions::adaptive(scene.tolerance.value_or(kDefaultFormFactorTolerance));
+    if (gauss_points)
+        o = FormFactorOptions::gauss(*gauss_points);
+    else if (tolerance)
+        o = FormFactorOptions::adaptive(*tolerance);
+    else if (scene.gauss_points)
+        o = FormFactorOptions::gauss(*scene.gauss_points);
+    else
+        o = FormFactorOptions::adaptive(scene.tolerance.value_or(kDefaultFormFactorTolerance));
     o.visibility = visibility.value_or(scene.visibility);
     return o;
 }
@@ -590,8 +615,10 @@ FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, s
 std::string describe(const FormFactorOptions& o) {
     const long long p = o.gauss_points;
     switch (o.method) {
-        case FormFactorMethod::Fixed: return fmt::format("Gauss p = {} ({} terms/pair)", p, p * p * p * p);
-        case FormFactorMethod::Adaptive: return fmt::format("adaptive, tolerance {:.0e}", o.tolerance);
+        case FormFactorMethod::Fixed:
+            return fmt::format("Gauss p = {} ({} terms/pair)", p, p * p * p * p);
+        case FormFactorMethod::Adaptive:
+            return fmt::format("adaptive, tolerance {:.0e}", o.tolerance);
     }
     return "?";
 }
@@ -619,10 +646,12 @@ FormFactorChecks check_form_factors(const FormFactors& ff) {
                 row_est += e;
                 c.max_error_estimate = std::max(c.max_error_estimate, e);
                 if (j > i) {
-                    const double est = ff.area[i] * e + ff.area[j] * ff.error[static_cast<std::size_t>(j) * n + i];
+                    const double est =
+                        ff.area[i] * e + ff.area[j] * ff.error[static_cast<std::size_t>(j) * n + i];
                     const double diff = std::abs(ff.area[i] * ff.F(i, j) - ff.area[j] * ff.F(j, i));
                     if (diff > 0.0)
-                        c.reciprocity_vs_estimate = std::max(c.reciprocity_vs_estimate, est > 0.0 ? diff / est : 1e300);
+                        c.reciprocity_vs_estimate =
+                            std::max(c.reciprocity_vs_estimate, est > 0.0 ? diff / est : 1e300);
                 }
             }
             c.max_row_error_estimate = std::max(c.max_row_error_estimate, row_est);

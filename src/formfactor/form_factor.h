@@ -62,8 +62,10 @@ struct FormFactorOptions {
 struct FormFactorSettings;
 // The options a run uses: the command line's --gauss-points (fixed rule) or --ff-tolerance,
 // else the scene's form_factors block, else error control at kDefaultFormFactorTolerance.
-FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene, std::optional<double> tolerance,
-                                              std::optional<int> gauss_points, std::optional<bool> visibility);
+FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
+                                              std::optional<double> tolerance,
+                                              std::optional<int> gauss_points,
+                                              std::optional<bool> visibility);
 // "adaptive, tolerance 1e-06" or "Gauss p = 6 (1296 terms/pair)".
 std::string describe(const FormFactorOptions& o);
 
@@ -79,12 +81,12 @@ struct FormFactorStats {
     long long pairs_unoccluded = 0;  // computed pairs that no surface can block: no occlusion tests at all
     long long segment_tests = 0;     // exact segment-surface intersection tests performed
     // Error-controlled mode: how each computed direction of a pair was integrated.
-    long long semi_analytic = 0;     // closed-form inner integral (planar receiver), adaptive outer
-    long long numeric = 0;           // adaptive quadrature of both integrals (curved receivers, occluders)
-    long long by_reciprocity = 0;    // entries set from the other direction: A_i F_ij = A_j F_ji
-    long long regions = 0;           // outer integration regions (refinement effort)
-    long long capped = 0;            // integrals that hit the refinement limit before the tolerance
-    double seconds = 0.0;            // not stored: equal inputs give byte-identical cache files
+    long long semi_analytic = 0;   // closed-form inner integral (planar receiver), adaptive outer
+    long long numeric = 0;         // adaptive quadrature of both integrals (curved receivers, occluders)
+    long long by_reciprocity = 0;  // entries set from the other direction: A_i F_ij = A_j F_ji
+    long long regions = 0;         // outer integration regions (refinement effort)
+    long long capped = 0;          // integrals that hit the refinement limit before the tolerance
+    double seconds = 0.0;          // not stored: equal inputs give byte-identical cache files
 
     // Every counter with its report name, in this order: the report, the cache file and the
     // merge of per-thread counts all use this one list (a new counter is one line here and a
@@ -104,15 +106,19 @@ struct FormFactorStats {
         v("capped", s.capped);
     }
     template <class Visitor>
-    void for_each_counter(Visitor&& v) { for_each_counter(*this, v); }
+    void for_each_counter(Visitor&& v) {
+        for_each_counter(*this, v);
+    }
     template <class Visitor>
-    void for_each_counter(Visitor&& v) const { for_each_counter(*this, v); }
+    void for_each_counter(Visitor&& v) const {
+        for_each_counter(*this, v);
+    }
     FormFactorStats& operator+=(const FormFactorStats& o);
 };
 
 struct FormFactors {
-    DenseMatrix F;              // F(i, j): fraction of energy leaving i that arrives at j
-    std::vector<double> area;   // exact patch areas
+    DenseMatrix F;             // F(i, j): fraction of energy leaving i that arrives at j
+    std::vector<double> area;  // exact patch areas
     // Per-entry error estimates, row-major like F; empty when the method gives none.
     std::vector<double> error;
     FormFactorOptions options;  // the method and settings it was computed with
@@ -122,7 +128,7 @@ struct FormFactors {
 FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options);
 
 struct FormFactorChecks {
-    double closure_max_error = 0.0;      // max_i |sum_j F_ij - 1|
+    double closure_max_error = 0.0;  // max_i |sum_j F_ij - 1|
     int closure_worst_patch = -1;
     double reciprocity_max_error = 0.0;  // max_ij |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji)
     double reciprocity_abs_error = 0.0;  // max_ij |F_ij - A_j F_ji / A_i|, on the tolerance's scale

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "formfactor/analytic.h"
 #include "../tests/test_scenes.h"
+#include "formfactor/analytic.h"
 #include "geometry/scene_geometry.h"
 
 namespace radiosa {
@@ -39,8 +39,8 @@ TEST(FormFactor, ParallelRectanglesOfOtherProportions) {
     const Scene s = scene_of(quad("a", "[[0, 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]]") +
                              quad("b", "[[0, 0, 0.5], [0, 1, 0.5], [2, 1, 0.5], [2, 0, 0.5]]"));
     const double exact = analytic::parallel_rectangles(2, 1, 0.5);
-    EXPECT_NEAR(form_factors(s, 16).F(0, 1), exact, 5e-7);   // measured 2.3e-7
-    EXPECT_NEAR(form_factors(s, 24).F(0, 1), exact, 1e-9);   // measured 8.6e-11
+    EXPECT_NEAR(form_factors(s, 16).F(0, 1), exact, 5e-7);  // measured 2.3e-7
+    EXPECT_NEAR(form_factors(s, 24).F(0, 1), exact, 1e-9);  // measured 8.6e-11
 }
 
 TEST(FormFactor, PerpendicularSquaresSharingAnEdgeConvergeSlowly) {
@@ -131,8 +131,9 @@ TEST(FormFactor, OccluderBlocksAndVisibilityCanBeTurnedOff) {
     EXPECT_EQ(form_factors(s, 6).F(0, 1), 0.0);
     EXPECT_NEAR(form_factors(s, 8, false).F(0, 1), analytic::parallel_rectangles(1, 1, 1), 1e-10);
     // A sphere between them takes away part, not all.
-    const Scene ball = scene_of(two + "  - name: ball\n    type: sphere\n    center: [0.5, 0.5, 0.5]\n"
-                                      "    radius: 0.2\n    patches: [4, 2]\n    reflectance: [0, 0, 0]\n");
+    const Scene ball = scene_of(two +
+                                "  - name: ball\n    type: sphere\n    center: [0.5, 0.5, 0.5]\n"
+                                "    radius: 0.2\n    patches: [4, 2]\n    reflectance: [0, 0, 0]\n");
     const FormFactors fb = form_factors(ball, 8);
     EXPECT_LT(fb.F(0, 1), 0.9 * analytic::parallel_rectangles(1, 1, 1));
     EXPECT_GT(fb.F(0, 1), 0.5 * analytic::parallel_rectangles(1, 1, 1));

@@ -5,11 +5,11 @@
 
 #include <cmath>
 
+#include "../tests/test_scenes.h"
 #include "formfactor/analytic.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
-#include "../tests/test_scenes.h"
 
 namespace radiosa {
 
@@ -22,7 +22,9 @@ FormFactors adaptive(const Scene& scene, double tol, bool visibility = true) {
     return compute_form_factors(SceneGeometry(scene), FormFactorOptions::adaptive(tol, visibility));
 }
 
-double err_of(const FormFactors& ff, int i, int j) { return ff.error[static_cast<std::size_t>(i) * ff.F.n + j]; }
+double err_of(const FormFactors& ff, int i, int j) {
+    return ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
+}
 
 // Every entry finite and >= 0, every row at most 1 + n * tol, every estimate finite.
 void expect_sane(const FormFactors& ff, double tol) {
@@ -71,7 +73,8 @@ TEST(HardCases, NearTouchingPerpendicularSquares) {
     for (double gap : {1e-3, 1e-6}) {
         const std::string g = std::to_string(gap), h = std::to_string(1.0 + gap);
         expect_within(scene_of(quad("floor", test::kFloor) +
-                               quad("wall", "[[0, 0, " + g + "], [0, 0, " + h + "], [1, 0, " + h + "], [1, 0, " + g + "]]")),
+                               quad("wall", "[[0, 0, " + g + "], [0, 0, " + h + "], [1, 0, " + h +
+                                                "], [1, 0, " + g + "]]")),
                       analytic::perpendicular_rectangles_gap(1, 1, gap, 1), "gap");
     }
 }
@@ -97,8 +100,8 @@ TEST(HardCases, GrazingNearlyCoplanarPatchesSharingAnEdge) {
     // Two squares at 179.9 degrees: a factor near zero, never negative or NaN.
     const double a = 0.1 * kPi / 180.0;
     const std::string zs = std::to_string(std::sin(a)), xs = std::to_string(-std::cos(a));
-    const Scene s = scene_of(quad("a", test::kFloor) +
-                             quad("b", "[[0, 0, 0], [0, 1, 0], [" + xs + ", 1, " + zs + "], [" + xs + ", 0, " + zs + "]]"));
+    const Scene s = scene_of(quad("a", test::kFloor) + quad("b", "[[0, 0, 0], [0, 1, 0], [" + xs + ", 1, " +
+                                                                     zs + "], [" + xs + ", 0, " + zs + "]]"));
     const FormFactors ff = adaptive(s, 1e-6);
     expect_sane(ff, 1e-6);
     EXPECT_LT(ff.F(0, 1), 1e-3);
@@ -106,9 +109,10 @@ TEST(HardCases, GrazingNearlyCoplanarPatchesSharingAnEdge) {
 
 TEST(HardCases, InsideOfASphereSeesItselfExactly) {
     // F_ij = A_j / (4 pi R^2) for every pair, F_ii included (the concave patch sees itself).
-    const Scene s = parse_scene("closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n"
-                                "    radius: 2\n    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
-                                "shell.yaml");
+    const Scene s = parse_scene(
+        "closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n"
+        "    radius: 2\n    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+        "shell.yaml");
     const FormFactors ff = adaptive(s, 1e-8);
     expect_sane(ff, 1e-8);
     for (int i = 0; i < ff.F.n; ++i)
@@ -129,8 +133,9 @@ TEST(HardCases, SphereTangentToTheFloorOfAClosedBox) {
     walls += quad("x1", "[[2, -2, -1], [2, -2, 3], [2, 2, 3], [2, 2, -1]]", 3, 3);
     walls += quad("y0", "[[-2, -2, -1], [-2, -2, 3], [2, -2, 3], [2, -2, -1]]", 3, 3);
     walls += quad("y1", "[[-2, 2, -1], [2, 2, -1], [2, 2, 3], [-2, 2, 3]]", 3, 3);
-    walls += "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
-             "    reflectance: [0, 0, 0]\n";
+    walls +=
+        "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
+        "    reflectance: [0, 0, 0]\n";
     const FormFactors ff = adaptive(scene_of(walls, true), 1e-6);
     expect_sane(ff, 1e-6);
     const FormFactorChecks c = check_form_factors(ff);
@@ -154,8 +159,9 @@ TEST(HardCases, SeedSceneClosesWithinTheDefaultTolerance) {
 namespace radiosa {
 
 namespace {
-const std::string kBall = "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
-                          "    reflectance: [0, 0, 0]\n";
+const std::string kBall =
+    "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
+    "    reflectance: [0, 0, 0]\n";
 // Sum over j in [j0, j1) of F_ij and of its estimates.
 std::pair<double, double> row_part(const FormFactors& ff, int i, int j0, int j1) {
     double f = 0.0, e = 0.0;
@@ -190,8 +196,9 @@ TEST(HardCases, CubeFaceToCentredSphereIsPiOver24) {
 TEST(HardCases, ConcentricSpheresShellSeesAQuarterInside) {
     // Every point of the shell (R = 2) sees the inner sphere (r = 1) with F = (r/R)^2; the inner
     // sphere sends everything to the shell. Curved receivers with an occluder: the numeric path.
-    const Scene s = scene_of(kBall + "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 2\n"
-                                     "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+    const Scene s = scene_of(kBall +
+                                 "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 2\n"
+                                 "    facing: inward\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
                              true);
     const double tol = 1e-4;
     const FormFactors ff = adaptive(s, tol);

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <sstream>
 
-#include "util/bytes.h"
 #include "geometry/scene_geometry.h"
 #include "util/atomic_file.h"
+#include "util/bytes.h"
 #include "util/error.h"
 
 namespace radiosa {
@@ -35,7 +35,8 @@ std::string patch_table_csv(const SceneGeometry& g, const FormFactors& ff, bool 
     s << "\n";
     for (int i = 0; i < n; ++i) {
         const Patch& p = g.patch(i);
-        s << i << ",\"" << g.surface_name(p.surface) << "\"," << p.is << "," << p.it << "," << fmt17(ff.area[i]);
+        s << i << ",\"" << g.surface_name(p.surface) << "\"," << p.is << "," << p.it << ","
+          << fmt17(ff.area[i]);
         if (with_matrix)
             for (int j = 0; j < n; ++j) s << "," << fmt17(ff.F(i, j));
         s << "\n";

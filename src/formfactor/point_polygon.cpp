@@ -16,7 +16,9 @@ Vec3 unit_or_zero(const Vec3& v) {
 }
 
 // Angle between unit vectors, accurate for small and large angles.
-double angle_between(const Vec3& a, const Vec3& b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
+double angle_between(const Vec3& a, const Vec3& b) {
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
 
 // Length of the part of the great-circle arc a -> b (unit vectors, angle gamma) inside the
 // cap {w : w . d >= cos_a}.
@@ -37,7 +39,8 @@ double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d,
 
 }  // namespace
 
-double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, const BoundingSphere* blocker) {
+double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                        const BoundingSphere* blocker) {
     // Front side of the polygon (Newell normal, robust for any planar polygon).
     Vec3 m(0.0);
     for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
@@ -92,7 +95,8 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, 
     for (int k = 0; k < nc; ++k)
         blocked += arc_inside_cap(w[k], w[(k + 1) % nc], gamma[k], d, cos_a) * glm::dot(n, u[k]);
     // (2) arcs of the cap's circle inside the polygon: w(t) = cos_a d + sin_a (cos t e1 + sin t e2).
-    const Vec3 e1 = unit_or_zero(std::abs(d.x) < 0.9 ? glm::cross(d, Vec3(1, 0, 0)) : glm::cross(d, Vec3(0, 1, 0)));
+    const Vec3 e1 =
+        unit_or_zero(std::abs(d.x) < 0.9 ? glm::cross(d, Vec3(1, 0, 0)) : glm::cross(d, Vec3(0, 1, 0)));
     const Vec3 e2 = glm::cross(d, e1);
     std::array<double, 2 * kMaxVerts + 2> cuts{};
     int ncuts = 0;
@@ -101,8 +105,10 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, 
         mk[k] = glm::cross(w[k], w[(k + 1) % nc]);
         const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
         const double amp = std::sqrt(b1 * b1 + b2 * b2);
-        if (amp * sin_a <= std::abs(a0) * cos_a) continue;  // the circle does not cross this edge's great circle
-        const double tk = std::atan2(b2, b1), beta = std::acos(std::clamp(-cos_a * a0 / (sin_a * amp), -1.0, 1.0));
+        if (amp * sin_a <= std::abs(a0) * cos_a)
+            continue;  // the circle does not cross this edge's great circle
+        const double tk = std::atan2(b2, b1),
+                     beta = std::acos(std::clamp(-cos_a * a0 / (sin_a * amp), -1.0, 1.0));
         for (double t : {tk - beta, tk + beta}) {
             t = std::fmod(t, 2 * kPi);
             if (t < 0) t += 2 * kPi;
@@ -120,8 +126,9 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, 
         bool inside = true;
         for (int k = 0; k < nc && inside; ++k) inside = glm::dot(wm, mk[k]) >= 0.0;
         if (!inside) continue;
-        const Vec3 integral = cos_a * sin_a * ((std::cos(t2) - std::cos(t1)) * e2 - (std::sin(t2) - std::sin(t1)) * e1) +
-                              sin_a * sin_a * (t2 - t1) * d;
+        const Vec3 integral =
+            cos_a * sin_a * ((std::cos(t2) - std::cos(t1)) * e2 - (std::sin(t2) - std::sin(t1)) * e1) +
+            sin_a * sin_a * (t2 - t1) * d;
         blocked += glm::dot(n, integral);
     }
     return std::max(0.0, (whole - blocked) / (2.0 * kPi));

@@ -14,6 +14,7 @@ namespace radiosa {
 // convex, counter-clockwise about its front normal). Zero when x is not on the polygon's
 // front side. `blocker`, if given, is a sphere that x is outside of, lying wholly between x
 // and the polygon's plane; the directions it covers are taken out.
-double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count, const BoundingSphere* blocker);
+double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                        const BoundingSphere* blocker);
 
 }  // namespace radiosa

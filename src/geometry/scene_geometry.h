@@ -18,7 +18,7 @@ struct Patch {
     int surface = 0;
     int is = 0, it = 0;  // index along s and t on its surface
     double s0 = 0, s1 = 0, t0 = 0, t1 = 0;
-    double area = 0;     // exact
+    double area = 0;  // exact
     BoundingSphere bound;
     std::array<Vec3, 4> corners{};  // P(s0,t0), P(s1,t0), P(s1,t1), P(s0,t1)
     bool planar = false;
@@ -27,9 +27,9 @@ struct Patch {
 struct Hit {
     double dist = 0.0;
     int surface = -1;
-    int patch = -1;      // global patch index
-    double s = 0, t = 0; // surface parameters
-    double u = 0, v = 0; // parameters local to the patch, in [0,1]
+    int patch = -1;       // global patch index
+    double s = 0, t = 0;  // surface parameters
+    double u = 0, v = 0;  // parameters local to the patch, in [0,1]
 };
 
 class SceneGeometry {

@@ -16,8 +16,8 @@ struct RenderOptions {
     int samples = 3;  // per axis: samples^2 rays per pixel
 };
 
-Image render_image(const SceneGeometry& geometry, const NodeRadiosity& nodes,
-                   const PinholeCamera& camera, const RenderOptions& options);
+Image render_image(const SceneGeometry& geometry, const NodeRadiosity& nodes, const PinholeCamera& camera,
+                   const RenderOptions& options);
 
 // Pixel area covered by one surface (fraction of sub-pixel rays whose nearest front-facing
 // hit is on it, summed over pixels): checks silhouettes against closed forms.

@@ -14,9 +14,10 @@ namespace radiosa {
 
 namespace {
 Scene lone_sphere() {
-    return parse_scene("closed: false\nsurfaces:\n  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n"
-                       "    radius: 1\n    patches: [8, 4]\n    reflectance: [0.5, 0.5, 1]\n",
-                       "ball.yaml");
+    return parse_scene(
+        "closed: false\nsurfaces:\n  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n"
+        "    radius: 1\n    patches: [8, 4]\n    reflectance: [0.5, 0.5, 1]\n",
+        "ball.yaml");
 }
 }  // namespace
 
@@ -51,9 +52,10 @@ TEST(Shading, NodesAverageAroundSeamAndPoles) {
 }
 
 TEST(Shading, UniformRadiosityShadesUniformlyAndEmissionStaysOnItsPatch) {
-    const Scene s = parse_scene("surfaces:\n  - name: f\n    type: quad\n    corners: [[0, 0, 0], [3, 0, 0], "
-                                "[3, 3, 0], [0, 3, 0]]\n    patches: [3, 3]\n    reflectance: [0.5, 0.5, 0.5]\n",
-                                "f.yaml");
+    const Scene s = parse_scene(
+        "surfaces:\n  - name: f\n    type: quad\n    corners: [[0, 0, 0], [3, 0, 0], "
+        "[3, 3, 0], [0, 3, 0]]\n    patches: [3, 3]\n    reflectance: [0.5, 0.5, 0.5]\n",
+        "f.yaml");
     const SceneGeometry geo(s);
     std::vector<Rgb> B(9, Rgb(0.25)), E(9, Rgb(0.0));
     B[4] += Rgb(7.0);

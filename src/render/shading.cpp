@@ -29,8 +29,10 @@ NodeRadiosity::NodeRadiosity(const SceneGeometry& geo, const std::vector<Rgb>& B
                             int is = a + da;
                             const int it = b + db;
                             if (it < 0 || it >= nt) continue;
-                            if (surf.wraps_in_s()) is = (is + ns) % ns;  // the seam s = 0 = 1
-                            else if (is < 0 || is >= ns) continue;
+                            if (surf.wraps_in_s())
+                                is = (is + ns) % ns;  // the seam s = 0 = 1
+                            else if (is < 0 || is >= ns)
+                                continue;
                             sum += patch_B(is, it);
                             ++count;
                         }
@@ -48,8 +50,9 @@ Rgb NodeRadiosity::shade(const Hit& h) const {
     const Patch& p = m_geo.patch(h.patch);
     const int a = p.is, b = p.it;
     const double u = h.u, v = h.v;
-    return m_E[h.patch] + (1 - u) * (1 - v) * node(h.surface, a, b) + u * (1 - v) * node(h.surface, a + 1, b) +
-           u * v * node(h.surface, a + 1, b + 1) + (1 - u) * v * node(h.surface, a, b + 1);
+    return m_E[h.patch] + (1 - u) * (1 - v) * node(h.surface, a, b) +
+           u * (1 - v) * node(h.surface, a + 1, b) + u * v * node(h.surface, a + 1, b + 1) +
+           (1 - u) * v * node(h.surface, a, b + 1);
 }
 
 }  // namespace radiosa

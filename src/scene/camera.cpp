@@ -1,6 +1,6 @@
-#include <cmath>
-
 #include "scene/camera.h"
+
+#include <cmath>
 
 namespace radiosa {
 

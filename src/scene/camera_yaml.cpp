@@ -10,12 +10,14 @@ CameraDesc read_camera_fields(YamlMap& m, std::optional<OrbitParams>* orbit_out)
     if (m.has("look_at")) cam.look_at = m.vec3("look_at");
     const bool orbit = m.has("distance") || m.has("theta_deg") || m.has("phi_deg");
     if (orbit && m.has("position"))
-        throw Error(m.key_loc("position"), m.what() + ": give either distance/theta_deg/phi_deg or position, not both");
+        throw Error(m.key_loc("position"),
+                    m.what() + ": give either distance/theta_deg/phi_deg or position, not both");
     if (orbit) {
         const YAML::Node dn = m.required("distance");
         OrbitParams o;
         o.distance = yaml_number(dn, filename, "distance");
-        if (!(o.distance > 0.0)) throw Error(loc_of(dn, filename), "distance must be > 0, got " + dn.Scalar());
+        if (!(o.distance > 0.0))
+            throw Error(loc_of(dn, filename), "distance must be > 0, got " + dn.Scalar());
         o.theta_deg = m.number("theta_deg");
         o.phi_deg = m.number("phi_deg");
         cam.eye = orbit_position(cam.look_at, o.distance, o.theta_deg, o.phi_deg);

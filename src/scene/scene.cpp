@@ -20,7 +20,8 @@ Materials patch_materials(const Scene& scene) {
         const std::size_t first = m.rho.size();
         m.rho.resize(first + static_cast<std::size_t>(d.ns) * d.nt, d.reflectance);
         m.E.resize(m.rho.size(), d.emission);
-        for (const auto& pe : d.patch_emission) m.E[first + static_cast<std::size_t>(pe.it) * d.ns + pe.is] = pe.emission;
+        for (const auto& pe : d.patch_emission)
+            m.E[first + static_cast<std::size_t>(pe.it) * d.ns + pe.is] = pe.emission;
     }
     return m;
 }

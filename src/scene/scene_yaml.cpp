@@ -20,15 +20,15 @@ Rgb read_reflectance(const YAML::Node& node, const std::string& file) {
         if (rho[k] < 0.0 || rho[k] > 1.0)
             throw Error(loc_of(node[k], file),
                         "reflectance must be in [0, 1] (a surface cannot reflect more than it "
-                        "receives), got " + node[k].Scalar());
+                        "receives), got " +
+                            node[k].Scalar());
     return rho;
 }
 
 Rgb read_emission(const YAML::Node& node, const std::string& file) {
     Rgb e = read_rgb(node, file, "emission");
     for (int k = 0; k < 3; ++k)
-        if (e[k] < 0.0)
-            throw Error(loc_of(node[k], file), "emission must be >= 0, got " + node[k].Scalar());
+        if (e[k] < 0.0) throw Error(loc_of(node[k], file), "emission must be >= 0, got " + node[k].Scalar());
     return e;
 }
 
@@ -40,9 +40,9 @@ void read_patches(YamlMap& m, SurfaceDesc& s) {
     for (int k = 0; k < 2; ++k) {
         n[k] = yaml_integer(node[k], m.file(), k == 0 ? "patches[0] (ns)" : "patches[1] (nt)");
         if (n[k] < 1 || n[k] > kMaxPatchesPerAxis)
-            throw Error(loc_of(node[k], m.file()),
-                        "patch count must be between 1 and " + std::to_string(kMaxPatchesPerAxis) +
-                            ", got " + node[k].Scalar());
+            throw Error(loc_of(node[k], m.file()), "patch count must be between 1 and " +
+                                                       std::to_string(kMaxPatchesPerAxis) + ", got " +
+                                                       node[k].Scalar());
     }
     s.ns = static_cast<int>(n[0]);
     s.nt = static_cast<int>(n[1]);
@@ -52,7 +52,8 @@ void read_patch_emission(YamlMap& m, SurfaceDesc& s) {
     auto list = m.optional("patch_emission");
     if (!list) return;
     if (!list->IsSequence())
-        throw Error(loc_of(*list, m.file()), "patch_emission must be a list of {patch: [i, j], emission: [r, g, b]}");
+        throw Error(loc_of(*list, m.file()),
+                    "patch_emission must be a list of {patch: [i, j], emission: [r, g, b]}");
     for (const auto& item : *list) {
         YamlMap pm(item, m.file(), "patch_emission entry");
         PatchEmission pe;
@@ -63,14 +64,14 @@ void read_patch_emission(YamlMap& m, SurfaceDesc& s) {
         const long long i = yaml_integer(idx[0], m.file(), "patch[0]");
         const long long j = yaml_integer(idx[1], m.file(), "patch[1]");
         if (i < 0 || i >= s.ns || j < 0 || j >= s.nt)
-            throw Error(loc_of(idx, m.file()),
-                        "patch [" + std::to_string(i) + ", " + std::to_string(j) + "] is outside surface '" +
-                            s.name + "', which has patches [0.." + std::to_string(s.ns - 1) + ", 0.." +
-                            std::to_string(s.nt - 1) + "]");
+            throw Error(loc_of(idx, m.file()), "patch [" + std::to_string(i) + ", " + std::to_string(j) +
+                                                   "] is outside surface '" + s.name +
+                                                   "', which has patches [0.." + std::to_string(s.ns - 1) +
+                                                   ", 0.." + std::to_string(s.nt - 1) + "]");
         for (const auto& other : s.patch_emission)
             if (other.is == i && other.it == j)
-                throw Error(loc_of(idx, m.file()), "patch [" + std::to_string(i) + ", " +
-                                                       std::to_string(j) + "] is given twice");
+                throw Error(loc_of(idx, m.file()),
+                            "patch [" + std::to_string(i) + ", " + std::to_string(j) + "] is given twice");
         pe.is = static_cast<int>(i);
         pe.it = static_cast<int>(j);
         pe.emission = read_emission(pm.required("emission"), m.file());
@@ -89,7 +90,8 @@ SurfaceDesc read_surface(const YAML::Node& node, const std::string& file, int in
     const std::string t = yaml_string(type, file, "type");
     s.type = find_surface_type(t);
     if (!s.type)
-        throw Error(loc_of(type, file), "unknown surface type '" + t + "' (known: " + surface_type_names() + ")");
+        throw Error(loc_of(type, file),
+                    "unknown surface type '" + t + "' (known: " + surface_type_names() + ")");
     read_patches(m, s);
     s.reflectance = read_reflectance(m.required("reflectance"), file);
     if (auto e = m.optional("emission")) s.emission = read_emission(*e, file);
@@ -111,8 +113,9 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
     }
     if (auto t = m.optional("tolerance")) {
         if (f.gauss_points)
-            throw Error(loc_of(*t, file), "form_factors: give tolerance (error-controlled) or gauss_points (the paper's "
-                                          "fixed rule), not both");
+            throw Error(loc_of(*t, file),
+                        "form_factors: give tolerance (error-controlled) or gauss_points (the paper's "
+                        "fixed rule), not both");
         f.tolerance = yaml_number(*t, file, "tolerance");
         if (!(*f.tolerance >= kMinFormFactorTolerance && *f.tolerance <= 0.1))
             throw Error(loc_of(*t, file), "tolerance must be in [1e-12, 0.1], got " + t->Scalar());
@@ -152,8 +155,6 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
     return scene;
 }
 
-Scene load_scene(const std::string& path) {
-    return parse_scene(read_input_file(path), path);
-}
+Scene load_scene(const std::string& path) { return parse_scene(read_input_file(path), path); }
 
 }  // namespace radiosa

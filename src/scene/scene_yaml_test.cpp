@@ -49,9 +49,7 @@ std::string parse_error(const std::string& text) {
     return "";
 }
 
-std::string with_surface(const std::string& body) {
-    return "surfaces:\n  - name: a\n" + body;
-}
+std::string with_surface(const std::string& body) { return "surfaces:\n  - name: a\n" + body; }
 
 const std::string kQuadBody =
     "    type: quad\n"
@@ -92,7 +90,8 @@ TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
     EXPECT_FALSE(s.form_factors.gauss_points);  // not given: error control at the default tolerance
     EXPECT_FALSE(s.form_factors.tolerance);
     EXPECT_TRUE(s.form_factors.visibility);
-    const FormFactorOptions o = resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, std::nullopt);
+    const FormFactorOptions o =
+        resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, std::nullopt);
     EXPECT_EQ(o.method, FormFactorMethod::Adaptive);
     EXPECT_EQ(o.tolerance, kDefaultFormFactorTolerance);
     EXPECT_EQ(resolve_form_factor_options(s.form_factors, std::nullopt, 6, std::nullopt).method,
@@ -127,8 +126,9 @@ TEST(SceneYaml, WrongTypeIsReported) {
 TEST(SceneYaml, NanAndInfinityAreRefused) {
     EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [.nan, 0, 0]\n")),
               "s.yaml:6:19: reflectance[0] must be a finite number, got '.nan'");
-    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    emission: [1e999, 0, 0]\n")),
-              "s.yaml:7:16: emission[0] is out of the range of double: '1e999'");
+    EXPECT_EQ(
+        parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    emission: [1e999, 0, 0]\n")),
+        "s.yaml:7:16: emission[0] is out of the range of double: '1e999'");
 }
 
 TEST(SceneYaml, ReflectanceOutsideUnitIntervalIsRefused) {
@@ -181,8 +181,9 @@ TEST(SceneYaml, PatchCountsAreBounded) {
 }
 
 TEST(SceneYaml, DuplicatesAreRefused) {
-    EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    reflectance: [1, 1, 1]\n")),
-              "s.yaml:7:5: key 'reflectance' appears twice in surface #1");
+    EXPECT_EQ(
+        parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    reflectance: [1, 1, 1]\n")),
+        "s.yaml:7:5: key 'reflectance' appears twice in surface #1");
     const std::string two = with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n") + "  - name: a\n" +
                             kQuadBody + "    reflectance: [0, 0, 0]\n";
     EXPECT_EQ(parse_error(two), "s.yaml:7:5: surface name 'a' is used twice; names must be unique");
@@ -195,14 +196,19 @@ TEST(SceneYaml, PatchEmissionMustNameAnExistingPatch) {
 }
 
 TEST(SceneYaml, UnknownSurfaceType) {
-    EXPECT_EQ(parse_error("surfaces:\n  - name: t\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-              "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere)");
+    EXPECT_EQ(
+        parse_error(
+            "surfaces:\n  - name: t\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+        "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere)");
 }
 
 TEST(SceneYaml, MalformedEmptyAndBinaryFiles) {
     EXPECT_EQ(parse_error("surfaces: [\n"), "s.yaml:2:1: malformed YAML: end of sequence flow not found");
     EXPECT_EQ(parse_error(""), "s.yaml:1:1: file is empty; expected a YAML mapping");
-    EXPECT_EQ(parse_error(std::string("\x7f" "ELF\0\0", 6)), "s.yaml: file is binary, not YAML text");
+    EXPECT_EQ(parse_error(std::string("\x7f"
+                                      "ELF\0\0",
+                                      6)),
+              "s.yaml: file is binary, not YAML text");
 }
 
 TEST(SceneYaml, MissingFileIsReported) {
@@ -257,10 +263,13 @@ TEST(CameraYaml, ErrorsNameTheirLine) {
     };
     EXPECT_EQ(err("camera:\n  distance: -6\n  theta_deg: 0\n  phi_deg: 90\n"),
               "c.yaml:2:13: distance must be > 0, got -6");
-    EXPECT_EQ(err("camera:\n  distance: 6\n  theta_deg: 0\n"), "c.yaml:2:3: camera is missing the required key 'phi_deg'");
-    EXPECT_EQ(err("camera:\n  position: [0, 0, 0]\n  fov_deg: 180\n"), "c.yaml:3:12: fov_deg must be in (0, 180), got 180");
+    EXPECT_EQ(err("camera:\n  distance: 6\n  theta_deg: 0\n"),
+              "c.yaml:2:3: camera is missing the required key 'phi_deg'");
+    EXPECT_EQ(err("camera:\n  position: [0, 0, 0]\n  fov_deg: 180\n"),
+              "c.yaml:3:12: fov_deg must be in (0, 180), got 180");
     EXPECT_EQ(err("camera:\n  position: [0, 0, 0]\n"), "c.yaml:2:3: camera: position and look_at coincide");
-    EXPECT_EQ(err("cam:\n  position: [1, 0, 0]\n"), "c.yaml:1:1: camera file is missing the required key 'camera'");
+    EXPECT_EQ(err("cam:\n  position: [1, 0, 0]\n"),
+              "c.yaml:1:1: camera file is missing the required key 'camera'");
 }
 
 }  // namespace radiosa

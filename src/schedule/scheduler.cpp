@@ -6,9 +6,12 @@ namespace radiosa {
 
 const char* solve_action_name(SolveAction a) {
     switch (a) {
-        case SolveAction::Factorised: return "factorised";
-        case SolveAction::Substituted: return "substituted";
-        case SolveAction::Reused: return "reused";
+        case SolveAction::Factorised:
+            return "factorised";
+        case SolveAction::Substituted:
+            return "substituted";
+        case SolveAction::Reused:
+            return "reused";
     }
     return "?";
 }
@@ -20,8 +23,8 @@ bool same_camera(const CameraDesc& a, const CameraDesc& b) {
 }
 
 int Plan::renders() const {
-    return static_cast<int>(std::count_if(frames.begin(), frames.end(),
-                                          [](const FramePlan& f) { return f.render == RenderAction::Rendered; }));
+    return static_cast<int>(std::count_if(
+        frames.begin(), frames.end(), [](const FramePlan& f) { return f.render == RenderAction::Rendered; }));
 }
 
 Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeometry& geometry) {

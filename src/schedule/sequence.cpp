@@ -15,8 +15,11 @@ using Params = std::array<double, 10>;
 
 Params params_of(const CameraKey& k, bool orbit) {
     const CameraDesc& c = k.camera;
-    if (orbit) return {k.distance, k.theta_deg, k.phi_deg, c.look_at.x, c.look_at.y, c.look_at.z, c.up.x, c.up.y, c.up.z, c.fov_deg};
-    return {c.eye.x, c.eye.y, c.eye.z, c.look_at.x, c.look_at.y, c.look_at.z, c.up.x, c.up.y, c.up.z, c.fov_deg};
+    if (orbit)
+        return {k.distance,  k.theta_deg, k.phi_deg, c.look_at.x, c.look_at.y,
+                c.look_at.z, c.up.x,      c.up.y,    c.up.z,      c.fov_deg};
+    return {c.eye.x,     c.eye.y, c.eye.z, c.look_at.x, c.look_at.y,
+            c.look_at.z, c.up.x,  c.up.y,  c.up.z,      c.fov_deg};
 }
 
 CameraDesc camera_of(const Params& p, bool orbit) {
@@ -92,7 +95,8 @@ Materials Sequence::materials_at(const Materials& base, const SceneGeometry& geo
             apply(geometry.patch_index(ev.surface, ev.patch->first, ev.patch->second));
         } else {
             for (int it = 0; it < geometry.nt(ev.surface); ++it)
-                for (int is = 0; is < geometry.ns(ev.surface); ++is) apply(geometry.patch_index(ev.surface, is, it));
+                for (int is = 0; is < geometry.ns(ev.surface); ++is)
+                    apply(geometry.patch_index(ev.surface, is, it));
         }
     }
     return m;

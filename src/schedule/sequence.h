@@ -27,7 +27,7 @@ struct CameraKey {
     // are then what is interpolated, so an orbit stays an orbit.
     bool orbit = false;
     double distance = 6.0, theta_deg = 0.0, phi_deg = 90.0;
-    CameraDesc camera;    // always filled (eye from the orbit form when orbit)
+    CameraDesc camera;  // always filled (eye from the orbit form when orbit)
 };
 
 enum class EventProperty { Emission, Reflectance };
@@ -50,7 +50,7 @@ struct Sequence {
     // Optional `image:` block: the size and sampling the sequence is meant for (the command
     // line's --width/--height/--samples win).
     std::optional<int> width, height, samples;
-    std::vector<CameraKey> keys;  // sorted by time, at least one
+    std::vector<CameraKey> keys;        // sorted by time, at least one
     std::vector<SequenceEvent> events;  // sorted by start time (stable)
 
     double frame_time(int f) const { return f / fps; }

@@ -48,9 +48,12 @@ TEST(Sequence, FrameCountAndDefaults) {
     EXPECT_DOUBLE_EQ(s.frame_time(5), 0.5);
     EXPECT_EQ(s.interpolation, CameraInterpolation::ConstantSpeed);
     EXPECT_EQ(s.scene_path, "");
-    s = seq(std::string("scene: ../scenes/x.yaml\nfps: 1\nimage: {width: 64, samples: 2}\n") + kOrbitKeys, &scene);
-    EXPECT_EQ(parse_sequence(std::string("scene: ../scenes/x.yaml\nfps: 1\n") + kOrbitKeys, "cams/s.yaml", &scene).scene_path,
-              "scenes/x.yaml");
+    s = seq(std::string("scene: ../scenes/x.yaml\nfps: 1\nimage: {width: 64, samples: 2}\n") + kOrbitKeys,
+            &scene);
+    EXPECT_EQ(
+        parse_sequence(std::string("scene: ../scenes/x.yaml\nfps: 1\n") + kOrbitKeys, "cams/s.yaml", &scene)
+            .scene_path,
+        "scenes/x.yaml");
     EXPECT_EQ(s.width, 64);
     EXPECT_FALSE(s.height.has_value());
     EXPECT_EQ(s.samples, 2);
@@ -75,7 +78,8 @@ camera:
     - {time_s: 0, position: [5, 0, 0]}
     - {time_s: 1, position: [0, 5, 0]}
     - {time_s: 3, position: [-5, 0, 1]}
-)", &scene);
+)",
+                            &scene);
     EXPECT_NEAR(glm::length(sp.camera_at(1.0).eye - Vec3(0, 5, 0)), 0.0, 1e-12);
     EXPECT_NEAR(glm::length(sp.camera_at(3.0).eye - Vec3(-5, 0, 1)), 0.0, 1e-12);
     const Vec3 half = sp.camera_at(2.0).eye;
@@ -96,7 +100,8 @@ camera:
     - {time_s: 0, position: [5, 0, 0], hold_s: 1}
     - {time_s: 2, position: [0, 5, 0]}
     - {time_s: 3, position: [0, 0, 5], up: [1, 0, 0], cut: true}
-)", &scene);
+)",
+                           &scene);
     EXPECT_EQ(s.camera_at(0.0).eye, Vec3(5, 0, 0));
     EXPECT_EQ(s.camera_at(0.75).eye, Vec3(5, 0, 0));  // holding
     EXPECT_NE(s.camera_at(1.5).eye, Vec3(5, 0, 0));   // moving
@@ -112,7 +117,8 @@ TEST(Sequence, EventsSetAndRamp) {
   - {time_s: [1, 3], surface: face3, emission: [0, 0, 0]}
   - {time_s: [1, 3], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
   - {time_s: 2, surface: sphere, reflectance: [1, 0.5, 0.25]}
-)", &scene);
+)",
+                           &scene);
     const int f3 = g.patch_index(2, 1, 1), f6 = g.patch_index(5, 1, 1), f6b = g.patch_index(5, 0, 0);
     const int sph = g.patch_index(6, 0, 0);
     Materials m = s.materials_at(base, g, 0.5);
@@ -132,39 +138,49 @@ TEST(Sequence, EventsSetAndRamp) {
 TEST(Sequence, BadFilesNameTheLineAndTheFix) {
     const Scene scene = load_scene(kSeed);
     EXPECT_EQ(error_of(kOrbitKeys, &scene), "s.yaml:1:1: sequence file is missing the required key 'fps'");
-    EXPECT_EQ(error_of(std::string("fps: 0\n") + kOrbitKeys, &scene), "s.yaml:1:6: fps must be in (0, 240], got 0");
+    EXPECT_EQ(error_of(std::string("fps: 0\n") + kOrbitKeys, &scene),
+              "s.yaml:1:6: fps must be in (0, 240], got 0");
     const std::string head = std::string("fps: 10\n") + kOrbitKeys + "events:\n";
     EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face9, emission: [1, 1, 1]}\n", &scene),
               "s.yaml:14:26: event 1: no surface named 'face9' in " + kSeed +
                   " (it has face1, face2, face3, face4, face5, face6, sphere)");
-    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, patch: [3, 0], emission: [1, 1, 1]}\n", &scene),
-              "s.yaml:14:40: event 1: surface 'face6' has patches [0..2, 0..2], not [3, 0]");
+    EXPECT_EQ(
+        error_of(head + "  - {time_s: 1, surface: face6, patch: [3, 0], emission: [1, 1, 1]}\n", &scene),
+        "s.yaml:14:40: event 1: surface 'face6' has patches [0..2, 0..2], not [3, 0]");
     EXPECT_EQ(error_of(head + "  - {time_s: [2, 1], surface: face6, emission: [1, 1, 1]}\n", &scene),
               "s.yaml:14:18: event 1: a ramp must end after it starts, got [2, 1]");
     EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, reflectance: [1, 1.5, 1]}\n", &scene),
               "s.yaml:14:50: reflectance must be in [0, 1], got 1.5");
-    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, emission: [1, 1, 1], reflectance: [1, 1, 1]}\n", &scene),
-              "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
+    EXPECT_EQ(
+        error_of(head + "  - {time_s: 1, surface: face6, emission: [1, 1, 1], reflectance: [1, 1, 1]}\n",
+                 &scene),
+        "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
     EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, emision: [1, 1, 1]}\n", &scene),
               "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
     EXPECT_EQ(error_of("fps: 10\ncamera:\n  keys:\n    - {time_s: 1, position: [5, 0, 0]}\n"
-                       "    - {time_s: 1, position: [6, 0, 0]}\n", &scene),
+                       "    - {time_s: 1, position: [6, 0, 0]}\n",
+                       &scene),
               "s.yaml:5:16: camera key 2: time_s 1 must be later than the previous key's time (and hold)");
     EXPECT_EQ(error_of("fps: 10\nduration_s: 100000\n" + std::string(kOrbitKeys), &scene),
               "s.yaml:1:1: the sequence has 1000000 frames; the limit is 100000 (lower fps or duration_s)");
     // Found by the fuzzer: a key time of 5.6e63 s (the frame count overflowed the integer it was
     // printed as, undefined behaviour).
-    EXPECT_EQ(error_of("fps: 1\ncamera:\n  keys:\n    - {time_s: 5555555555555555555555555555555555555555555555555555555555555555, "
-                       "position: [5, 0, 0]}\n", &scene),
+    EXPECT_EQ(error_of("fps: 1\ncamera:\n  keys:\n    - {time_s: "
+                       "5555555555555555555555555555555555555555555555555555555555555555, "
+                       "position: [5, 0, 0]}\n",
+                       &scene),
               "s.yaml:1:1: the sequence has 5.56e+63 frames; the limit is 100000 (lower fps or duration_s)");
     EXPECT_EQ(error_of("fps: 10\ncamera:\n  keys: []\n", &scene),
-              "s.yaml:3:9: camera keys must be a non-empty list of {time_s, distance, theta_deg, phi_deg | position, ...}");
+              "s.yaml:3:9: camera keys must be a non-empty list of {time_s, distance, theta_deg, phi_deg | "
+              "position, ...}");
     // A sequence where a camera file is expected, and the other way round.
     try {
         parse_camera(std::string("fps: 10\n") + kOrbitKeys, "c.yaml");
         ADD_FAILURE();
     } catch (const Error& e) {
-        EXPECT_STREQ(e.what(), "c.yaml:1:1: this is a sequence file (it has fps); pass it with --sequence, not --camera");
+        EXPECT_STREQ(
+            e.what(),
+            "c.yaml:1:1: this is a sequence file (it has fps); pass it with --sequence, not --camera");
     }
 }
 

@@ -6,8 +6,8 @@
 
 #include "scene/camera_yaml.h"
 #include "scene/scene.h"
-#include "util/yaml_reader.h"
 #include "schedule/sequence.h"
+#include "util/yaml_reader.h"
 
 namespace radiosa {
 
@@ -22,7 +22,9 @@ double non_negative_time(const YAML::Node& n, const std::string& file, const std
 std::vector<CameraKey> read_keys(YamlMap& cam, const std::string& file) {
     const YAML::Node list = cam.required("keys");
     if (!list.IsSequence() || list.size() == 0)
-        throw Error(loc_of(list, file), "camera keys must be a non-empty list of {time_s, distance, theta_deg, phi_deg | position, ...}");
+        throw Error(
+            loc_of(list, file),
+            "camera keys must be a non-empty list of {time_s, distance, theta_deg, phi_deg | position, ...}");
     std::vector<CameraKey> keys;
     double last_end = -1.0;
     for (std::size_t k = 0; k < list.size(); ++k) {
@@ -45,7 +47,8 @@ std::vector<CameraKey> read_keys(YamlMap& cam, const std::string& file) {
             key.theta_deg = orbit->theta_deg;
             key.phi_deg = orbit->phi_deg;
         }
-        m.reject_unknown_keys("time_s, hold_s, cut, distance, theta_deg, phi_deg | position, look_at, up, fov_deg");
+        m.reject_unknown_keys(
+            "time_s, hold_s, cut, distance, theta_deg, phi_deg | position, look_at, up, fov_deg");
         last_end = key.time_s + key.hold_s;
         keys.push_back(key);
     }
@@ -56,28 +59,27 @@ Rgb read_value(const YAML::Node& n, const std::string& file, EventProperty prop)
     const std::string what = prop == EventProperty::Emission ? "emission" : "reflectance";
     const Vec3 v = yaml_vec3(n, file, what, "[r, g, b]");
     for (int c = 0; c < 3; ++c) {
-        if (v[c] < 0.0)
-            throw Error(loc_of(n[c], file), what + " must be >= 0, got " + n[c].Scalar());
+        if (v[c] < 0.0) throw Error(loc_of(n[c], file), what + " must be >= 0, got " + n[c].Scalar());
         if (prop == EventProperty::Reflectance && v[c] > 1.0)
             throw Error(loc_of(n[c], file), "reflectance must be in [0, 1], got " + n[c].Scalar());
     }
     return v;
 }
 
-SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::string& file, const Scene* scene) {
+SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::string& file,
+                         const Scene* scene) {
     const std::string what = "event " + std::to_string(index + 1);
     YamlMap m(node, file, what);
     SequenceEvent ev;
     ev.loc = m.loc();
     const YAML::Node tn = m.required("time_s");
     if (tn.IsSequence()) {
-        if (tn.size() != 2)
-            throw Error(loc_of(tn, file), what + ": time_s is a time or a ramp [start, end]");
+        if (tn.size() != 2) throw Error(loc_of(tn, file), what + ": time_s is a time or a ramp [start, end]");
         ev.t0 = non_negative_time(tn[0], file, "time_s[0]");
         ev.t1 = non_negative_time(tn[1], file, "time_s[1]");
         if (!(ev.t1 > ev.t0))
-            throw Error(loc_of(tn[1], file), what + ": a ramp must end after it starts, got [" + tn[0].Scalar() + ", " +
-                                                 tn[1].Scalar() + "]");
+            throw Error(loc_of(tn[1], file), what + ": a ramp must end after it starts, got [" +
+                                                 tn[0].Scalar() + ", " + tn[1].Scalar() + "]");
     } else {
         ev.t0 = ev.t1 = non_negative_time(tn, file, "time_s");
     }
@@ -88,20 +90,22 @@ SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::s
         if (ev.surface < 0) {
             std::string known;
             for (const auto& s : scene->surfaces) known += (known.empty() ? "" : ", ") + s.name;
-            throw Error(loc_of(sn, file), what + ": no surface named '" + name + "' in " + scene->file + " (it has " +
-                                              known + ")");
+            throw Error(loc_of(sn, file), what + ": no surface named '" + name + "' in " + scene->file +
+                                              " (it has " + known + ")");
         }
     }
     if (auto p = m.optional("patch")) {
         if (!p->IsSequence() || p->size() != 2)
             throw Error(loc_of(*p, file), what + ": patch must be [i, j] (0-based indices along s and t)");
-        const long long i = yaml_integer((*p)[0], file, "patch[0]"), j = yaml_integer((*p)[1], file, "patch[1]");
+        const long long i = yaml_integer((*p)[0], file, "patch[0]"),
+                        j = yaml_integer((*p)[1], file, "patch[1]");
         if (scene) {
             const SurfaceDesc& s = scene->surfaces[ev.surface];
             if (i < 0 || i >= s.ns || j < 0 || j >= s.nt)
                 throw Error(loc_of(*p, file), what + ": surface '" + name + "' has patches [0.." +
-                                                  std::to_string(s.ns - 1) + ", 0.." + std::to_string(s.nt - 1) +
-                                                  "], not [" + std::to_string(i) + ", " + std::to_string(j) + "]");
+                                                  std::to_string(s.ns - 1) + ", 0.." +
+                                                  std::to_string(s.nt - 1) + "], not [" + std::to_string(i) +
+                                                  ", " + std::to_string(j) + "]");
         }
         ev.patch = std::make_pair(static_cast<int>(i), static_cast<int>(j));
     }
@@ -133,7 +137,8 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
                              .string();
     const YAML::Node fn = top.required("fps");
     seq.fps = yaml_number(fn, filename, "fps");
-    if (!(seq.fps > 0.0 && seq.fps <= 240.0)) throw Error(loc_of(fn, filename), "fps must be in (0, 240], got " + fn.Scalar());
+    if (!(seq.fps > 0.0 && seq.fps <= 240.0))
+        throw Error(loc_of(fn, filename), "fps must be in (0, 240], got " + fn.Scalar());
 
     if (auto im = top.optional("image")) {
         YamlMap m(*im, filename, "image");
@@ -142,7 +147,8 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
             if (!n) return std::nullopt;
             const long long v = yaml_integer(*n, filename, key);
             if (v < 1 || v > hi)
-                throw Error(loc_of(*n, filename), std::string(key) + " must be in [1, " + std::to_string(hi) + "], got " + n->Scalar());
+                throw Error(loc_of(*n, filename), std::string(key) + " must be in [1, " + std::to_string(hi) +
+                                                      "], got " + n->Scalar());
             return static_cast<int>(v);
         };
         seq.width = read("width", 16384);
@@ -153,17 +159,23 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
     YamlMap cam(top.required("camera"), filename, "camera");
     if (auto in = cam.optional("interpolation")) {
         const std::string v = yaml_string(*in, filename, "interpolation");
-        if (v == "spline") seq.interpolation = CameraInterpolation::Spline;
-        else if (v == "constant-speed") seq.interpolation = CameraInterpolation::ConstantSpeed;
-        else throw Error(loc_of(*in, filename), "interpolation must be spline or constant-speed, got '" + v + "'");
+        if (v == "spline")
+            seq.interpolation = CameraInterpolation::Spline;
+        else if (v == "constant-speed")
+            seq.interpolation = CameraInterpolation::ConstantSpeed;
+        else
+            throw Error(loc_of(*in, filename),
+                        "interpolation must be spline or constant-speed, got '" + v + "'");
     }
     seq.keys = read_keys(cam, filename);
     cam.reject_unknown_keys("interpolation, keys");
 
     if (auto ev = top.optional("events")) {
         if (!ev->IsSequence())
-            throw Error(loc_of(*ev, filename), "events must be a list of {time_s, surface, [patch], emission | reflectance}");
-        for (std::size_t k = 0; k < ev->size(); ++k) seq.events.push_back(read_event((*ev)[k], k, filename, scene));
+            throw Error(loc_of(*ev, filename),
+                        "events must be a list of {time_s, surface, [patch], emission | reflectance}");
+        for (std::size_t k = 0; k < ev->size(); ++k)
+            seq.events.push_back(read_event((*ev)[k], k, filename, scene));
         std::stable_sort(seq.events.begin(), seq.events.end(),
                          [](const SequenceEvent& a, const SequenceEvent& b) { return a.t0 < b.t0; });
     }
@@ -174,7 +186,8 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
     double duration = end + 1.0 / seq.fps;
     if (auto d = top.optional("duration_s")) {
         duration = yaml_number(*d, filename, "duration_s");
-        if (!(duration > 0.0)) throw Error(loc_of(*d, filename), "duration_s must be > 0, got " + d->Scalar());
+        if (!(duration > 0.0))
+            throw Error(loc_of(*d, filename), "duration_s must be > 0, got " + d->Scalar());
     }
     const double frames = std::round(duration * seq.fps);
     if (frames > kMaxFrames) {

@@ -26,11 +26,16 @@ SolverMethod parse_solver_method(const std::string& name) {
 
 const char* solver_method_name(SolverMethod m) {
     switch (m) {
-        case SolverMethod::LU: return "lu";
-        case SolverMethod::GaussJordan: return "gauss-jordan";
-        case SolverMethod::Jacobi: return "jacobi";
-        case SolverMethod::GaussSeidel: return "gauss-seidel";
-        case SolverMethod::Southwell: return "southwell";
+        case SolverMethod::LU:
+            return "lu";
+        case SolverMethod::GaussJordan:
+            return "gauss-jordan";
+        case SolverMethod::Jacobi:
+            return "jacobi";
+        case SolverMethod::GaussSeidel:
+            return "gauss-seidel";
+        case SolverMethod::Southwell:
+            return "southwell";
     }
     return "?";
 }
@@ -51,8 +56,8 @@ int solve_iteratively(SolverMethod method, const DenseMatrix& F, const std::vect
     std::vector<double>& x = *x_out;
     x = e;
     // The cap bounds the work (~4e9 multiply-adds), so a slow case fails instead of hanging.
-    const int max_sweeps = static_cast<int>(std::clamp(4e9 / (static_cast<double>(n) * n), 100.0,
-                                                       static_cast<double>(kMaxSweeps)));
+    const int max_sweeps = static_cast<int>(
+        std::clamp(4e9 / (static_cast<double>(n) * n), 100.0, static_cast<double>(kMaxSweeps)));
     // r = e - (I - rho F) x
     std::vector<double> r(n);
     auto residual = [&] {
@@ -78,7 +83,8 @@ int solve_iteratively(SolverMethod method, const DenseMatrix& F, const std::vect
             x[k] += shot;
             for (int j = 0; j < n; ++j) r[j] += rho[j] * F(j, k) * shot;
             r[k] -= shot;
-            if (steps % n == 0) norm = residual();  // recompute now and then against drift
+            if (steps % n == 0)
+                norm = residual();  // recompute now and then against drift
             else {
                 double r2 = 0.0;
                 for (double v : r) r2 += v * v;
@@ -86,8 +92,9 @@ int solve_iteratively(SolverMethod method, const DenseMatrix& F, const std::vect
             }
         }
         if (norm > target)
-            throw Error("southwell did not converge: residual " + std::to_string(norm / std::sqrt(e2)) + " after " +
-                        std::to_string(steps) + " steps (spectral radius of rho F too close to 1; use --solver lu)");
+            throw Error("southwell did not converge: residual " + std::to_string(norm / std::sqrt(e2)) +
+                        " after " + std::to_string(steps) +
+                        " steps (spectral radius of rho F too close to 1; use --solver lu)");
         return static_cast<int>(steps / std::max(1, n));
     }
     // Jacobi reads the previous sweep's values, Gauss-Seidel the newest; both solve row i for
@@ -159,7 +166,7 @@ struct RadiositySolver::Impl {
     std::vector<RowMatrix> systems;                  // one per distinct channel (Gauss-Jordan)
     int slot[3] = {0, 0, 0};
     std::vector<RadiositySolver::Stability> stability;  // per distinct channel
-    const DenseMatrix* F = nullptr;                      // iterative methods read it
+    const DenseMatrix* F = nullptr;                     // iterative methods read it
     std::vector<std::vector<double>> rho_channel;       // per distinct channel (iterative)
     double factorise_s = 0.0;
 };
@@ -248,7 +255,9 @@ int RadiositySolver::factorisations() const {
 
 double RadiositySolver::factorise_seconds() const { return m->factorise_s; }
 
-const RadiositySolver::Stability& RadiositySolver::stability(int channel) const { return m->stability[m->slot[channel]]; }
+const RadiositySolver::Stability& RadiositySolver::stability(int channel) const {
+    return m->stability[m->slot[channel]];
+}
 
 void StabilitySummary::add(const RadiositySolver& solver) {
     for (int c = 0; c < 3; ++c) {
@@ -257,8 +266,8 @@ void StabilitySummary::add(const RadiositySolver& solver) {
     }
 }
 
-std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
-                               bool closed, const std::string& scene_file) {
+std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho,
+                               const std::vector<Rgb>& E, bool closed, const std::string& scene_file) {
     static const char* names[3] = {"red", "green", "blue"};
     std::string warning;
     for (int c = 0; c < 3; ++c) {
@@ -270,20 +279,24 @@ std::string check_steady_state(const RadiositySolver& solver, const std::vector<
         if (!lit) continue;
         const RadiositySolver::Stability& s = solver.stability(c);
         if (closed && all_one)
-            throw Error(scene_file + ": every reflectance is 1 in the " + names[c] +
-                        " channel of a closed scene: light is never absorbed, so radiosity grows without bound and "
-                        "there is no steady state (make some reflectance < 1, or the scene open)");
+            throw Error(
+                scene_file + ": every reflectance is 1 in the " + names[c] +
+                " channel of a closed scene: light is never absorbed, so radiosity grows without bound and "
+                "there is no steady state (make some reflectance < 1, or the scene open)");
         if (s.spectral_lo >= 1.0)
-            throw Error(scene_file + ": the " + names[c] + " channel has no steady state: the spectral radius of rho F is " +
-                        std::to_string(s.spectral_lo) + " >= 1 (reflectances too high for the form factors; lower them)");
+            throw Error(scene_file + ": the " + names[c] +
+                        " channel has no steady state: the spectral radius of rho F is " +
+                        std::to_string(s.spectral_lo) +
+                        " >= 1 (reflectances too high for the form factors; lower them)");
         if (s.spectral_hi >= 0.999 - 1e-9 && warning.empty()) {
             char buf[320];
-            std::snprintf(buf, sizeof buf,
-                          "%s: nearly singular radiosity system in the %s channel: spectral radius of rho F in [%.6f, "
-                          "%.6f], condition estimate %.1e; solved by partial-pivoting LU, expect relative error up to "
-                          "~%.0e",
-                          scene_file.c_str(), names[c], s.spectral_lo, s.spectral_hi, s.condition,
-                          std::max(1e-16, s.condition * 1e-16));
+            std::snprintf(
+                buf, sizeof buf,
+                "%s: nearly singular radiosity system in the %s channel: spectral radius of rho F in [%.6f, "
+                "%.6f], condition estimate %.1e; solved by partial-pivoting LU, expect relative error up to "
+                "~%.0e",
+                scene_file.c_str(), names[c], s.spectral_lo, s.spectral_hi, s.condition,
+                std::max(1e-16, s.condition * 1e-16));
             warning = buf;
         }
     }
@@ -319,7 +332,8 @@ std::vector<Rgb> RadiositySolver::solve(const std::vector<Rgb>& E) const {
                 x = gauss_jordan(m->systems[m->slot[c]], e);
             } else {
                 std::vector<double> ev(e.data(), e.data() + n), xv;
-                iterations = std::max(iterations, solve_iteratively(m->method, *m->F, m->rho_channel[m->slot[c]], ev, &xv));
+                iterations = std::max(
+                    iterations, solve_iteratively(m->method, *m->F, m->rho_channel[m->slot[c]], ev, &xv));
                 x = Eigen::Map<Eigen::VectorXd>(xv.data(), n);
             }
         }

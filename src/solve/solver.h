@@ -11,7 +11,7 @@
 namespace radiosa {
 
 enum class SolverMethod {
-    LU,          // Eigen partial-pivoting LU; factorisation kept, a new E costs a substitution
+    LU,           // Eigen partial-pivoting LU; factorisation kept, a new E costs a substitution
     GaussJordan,  // the 1991 paper's method, a full elimination per channel and per E
     // Iterative, no factorisation: sweep until the residual ||(I - rho F) B - E|| / ||E|| is
     // below kIterativeTolerance, or fail (Error) at the iteration cap: never a half-converged
@@ -21,8 +21,10 @@ enum class SolverMethod {
     Southwell  // relax the patch with the largest residual each step (progressive refinement)
 };
 inline constexpr double kIterativeTolerance = 1e-12;
-inline constexpr int kMaxSweeps = 100000;  // sweep cap (lower for large N: ~4e9 multiply-adds); Southwell: x N steps
-SolverMethod parse_solver_method(const std::string& name);  // lu | gauss-jordan | jacobi | gauss-seidel | southwell
+inline constexpr int kMaxSweeps =
+    100000;  // sweep cap (lower for large N: ~4e9 multiply-adds); Southwell: x N steps
+SolverMethod parse_solver_method(
+    const std::string& name);  // lu | gauss-jordan | jacobi | gauss-seidel | southwell
 const char* solver_method_name(SolverMethod m);
 
 class RadiositySolver {
@@ -47,7 +49,8 @@ public:
     // Substitutions (or eliminations) the last solve() ran: channels with identical
     // reflectance and emission, and dark channels, need none of their own.
     int last_channel_solves() const { return m_last_channel_solves; }
-    // Sweeps (Southwell: relaxation steps / N) the last solve() needed, max over channels (0 for direct methods).
+    // Sweeps (Southwell: relaxation steps / N) the last solve() needed, max over channels (0 for direct
+    // methods).
     int last_iterations() const { return m_last_iterations; }
     double factorise_seconds() const;
 
@@ -70,8 +73,8 @@ struct StabilitySummary {
 // in every patch of a closed scene for a lit channel, or a spectral radius of rho F at or above
 // 1 — and returns a one-line warning, or "", when it is nearly singular (spectral radius
 // >= 0.999: radiosity amplifies emission 1000-fold or more and round-off with it).
-std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
-                               bool closed, const std::string& scene_file);
+std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho,
+                               const std::vector<Rgb>& E, bool closed, const std::string& scene_file);
 
 struct SolveDiagnostics {
     // max over channels of ||(I - rho F) B - E|| / ||E|| (0 when E = 0)
@@ -84,7 +87,7 @@ struct SolveDiagnostics {
     Rgb absorbed_power{0.0};
 };
 
-SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area,
-                                   const Materials& m, const std::vector<Rgb>& B);
+SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area, const Materials& m,
+                                   const std::vector<Rgb>& B);
 
 }  // namespace radiosa

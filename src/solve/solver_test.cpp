@@ -11,11 +11,12 @@ namespace radiosa {
 namespace {
 Scene furnace(double rho, double e) {
     // A closed inward sphere: its form factors are exact (see SphereInteriorIsAreaRatio).
-    return parse_scene("surfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
-                       "    facing: inward\n    patches: [8, 4]\n    reflectance: [" +
-                           std::to_string(rho) + ", " + std::to_string(rho) + ", " + std::to_string(rho) +
-                           "]\n    emission: [" + std::to_string(e) + ", " + std::to_string(2 * e) + ", 0]\n",
-                       "furnace.yaml");
+    return parse_scene(
+        "surfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+        "    facing: inward\n    patches: [8, 4]\n    reflectance: [" +
+            std::to_string(rho) + ", " + std::to_string(rho) + ", " + std::to_string(rho) +
+            "]\n    emission: [" + std::to_string(e) + ", " + std::to_string(2 * e) + ", 0]\n",
+        "furnace.yaml");
 }
 }  // namespace
 

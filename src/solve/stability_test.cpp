@@ -4,13 +4,13 @@
 
 #include <cmath>
 
-#include "surfaces/quad.h"
-#include "surfaces/sphere.h"
+#include "../tests/record.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "solve/solver.h"
-#include "../tests/record.h"
+#include "surfaces/quad.h"
+#include "surfaces/sphere.h"
 
 namespace radiosa {
 
@@ -19,11 +19,12 @@ namespace {
 Scene furnace(double rho, double emission = 1.0) {
     const std::string r = std::to_string(rho), e = std::to_string(emission);
     char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
-                  "    facing: inward\n    patches: [8, 4]\n    reflectance: [%.17g, %.17g, %.17g]\n"
-                  "    emission: [%.17g, %.17g, %.17g]\n",
-                  rho, rho, rho, emission, emission, emission);
+    std::snprintf(
+        buf, sizeof buf,
+        "closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+        "    facing: inward\n    patches: [8, 4]\n    reflectance: [%.17g, %.17g, %.17g]\n"
+        "    emission: [%.17g, %.17g, %.17g]\n",
+        rho, rho, rho, emission, emission, emission);
     return parse_scene(buf, "furnace.yaml");
 }
 
@@ -87,8 +88,10 @@ TEST(Stiff, ReflectanceOneEverywhereHasNoSteadyState) {
         ADD_FAILURE() << "no error";
     } catch (const Error& e) {
         EXPECT_EQ(std::string(e.what()),
-                  "furnace.yaml: every reflectance is 1 in the red channel of a closed scene: light is never absorbed, "
-                  "so radiosity grows without bound and there is no steady state (make some reflectance < 1, or the "
+                  "furnace.yaml: every reflectance is 1 in the red channel of a closed scene: light is never "
+                  "absorbed, "
+                  "so radiosity grows without bound and there is no steady state (make some reflectance < 1, "
+                  "or the "
                   "scene open)");
     }
     // The same reflectances with no light: nothing to solve, nothing refused.
@@ -129,7 +132,8 @@ TEST(Extreme, SceneScaledBy1em6And1e6HasTheSameFormFactors) {
         }
         const FormFactors fk = compute_form_factors(SceneGeometry(s), FormFactorOptions::adaptive(1e-6));
         double worst = 0.0;
-        for (std::size_t e = 0; e < f1.F.data.size(); ++e) worst = std::max(worst, std::abs(fk.F.data[e] - f1.F.data[e]));
+        for (std::size_t e = 0; e < f1.F.data.size(); ++e)
+            worst = std::max(worst, std::abs(fk.F.data[e] - f1.F.data[e]));
         EXPECT_LT(worst, 2e-6) << "scale " << k;  // both within their 1e-6 tolerance
         EXPECT_LT(check_form_factors(fk).closure_max_error, 1e-6) << "scale " << k;
     }

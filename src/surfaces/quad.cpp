@@ -12,8 +12,7 @@ double cross2(double ax, double ay, double bx, double by) { return ax * by - ay 
 }  // namespace
 
 QuadSurface::QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const Vec3& c3)
-    : m_corners{c0, c1, c2, c3},
-      m_p0(c0), m_e(c1 - c0), m_f(c3 - c0), m_g(c0 - c1 + c2 - c3) {
+    : m_corners{c0, c1, c2, c3}, m_p0(c0), m_e(c1 - c0), m_f(c3 - c0), m_g(c0 - c1 + c2 - c3) {
     // The scene reader has checked planarity and convexity; the diagonals' cross product
     // gives the plane normal robustly for any convex quad.
     const Vec3 n = glm::normalize(glm::cross(c2 - c0, c3 - c1));
@@ -131,8 +130,8 @@ void validate_quad(const std::array<Vec3, 4>& c, const std::string& name, const 
         const Vec3 a = c[(k + 1) % 4] - c[k];
         const Vec3 b = c[(k + 3) % 4] - c[k];
         if (glm::dot(glm::cross(a, b), u) <= 1e-9 * size * size)
-            throw Error(where, "quad '" + name + "' is degenerate or not convex at corner " + std::to_string(k) +
-                                   " (list the corners in order around the quad)");
+            throw Error(where, "quad '" + name + "' is degenerate or not convex at corner " +
+                                   std::to_string(k) + " (list the corners in order around the quad)");
     }
 }
 

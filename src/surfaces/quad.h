@@ -28,9 +28,9 @@ public:
 
 private:
     std::array<Vec3, 4> m_corners;  // as given: the cache key
-    Vec3 m_p0, m_e, m_f, m_g;  // P = p0 + s e + t f + s t g
+    Vec3 m_p0, m_e, m_f, m_g;       // P = p0 + s e + t f + s t g
     Plane m_plane;
-    Vec3 m_u, m_v;             // orthonormal in-plane axes
+    Vec3 m_u, m_v;  // orthonormal in-plane axes
 };
 
 }  // namespace radiosa

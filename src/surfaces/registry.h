@@ -21,9 +21,9 @@ struct SurfaceKeyValue {
 };
 
 struct SurfaceType {
-    std::string name;        // the value of `type:` in scene files
-    std::uint32_t key_id;    // hashed into cache keys; never reuse or renumber one
-    std::string keys;        // the type's own keys, for messages: "center, radius, facing"
+    std::string name;      // the value of `type:` in scene files
+    std::uint32_t key_id;  // hashed into cache keys; never reuse or renumber one
+    std::string keys;      // the type's own keys, for messages: "center, radius, facing"
     // Reads and validates the type's own keys (the scene reader reads name, patches,
     // reflectance and emission) and builds the surface; bad values throw Error at their
     // file:line:col. `name` is the surface's name, for messages.

@@ -1,7 +1,8 @@
 #pragma once
 // The interface every surface type implements: P(s, t), (s, t) in [0,1]^2, with exact partial
 // derivatives and exact ray intersection. Each type lives in its own file (quad.cpp,
-// sphere.cpp, ...) and is listed once in registry.cpp. Curved surfaces are never replaced by polygons anywhere in radiosa.
+// sphere.cpp, ...) and is listed once in registry.cpp. Curved surfaces are never replaced by polygons
+// anywhere in radiosa.
 #include <memory>
 #include <optional>
 
@@ -60,8 +61,8 @@ public:
     // True when a patch can see another patch of the same surface (concave side in front).
     virtual bool sees_itself() const = 0;
     // Topology of the parameter domain, for averaging radiosities at shared nodes.
-    virtual bool wraps_in_s() const { return false; }   // s = 0 and s = 1 coincide
-    virtual bool pole_at_t0() const { return false; }   // the whole edge t = 0 is one point
+    virtual bool wraps_in_s() const { return false; }  // s = 0 and s = 1 coincide
+    virtual bool pole_at_t0() const { return false; }  // the whole edge t = 0 is one point
     virtual bool pole_at_t1() const { return false; }
 
     // The bytes this surface adds to the form-factor cache key: every parameter that changes

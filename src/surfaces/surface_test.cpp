@@ -1,12 +1,11 @@
-#include "surfaces/quad.h"
-#include "surfaces/sphere.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "../tests/test_scenes.h"
 #include "geometry/scene_geometry.h"
+#include "surfaces/quad.h"
+#include "surfaces/sphere.h"
 #include "util/gauss_legendre.h"
 
 namespace radiosa {
@@ -127,7 +126,8 @@ TEST(Quad, RayHitInvertsTheBilinearMap) {
     for (double s : {0.0, 0.25, 0.5, 0.9})
         for (double t : {0.1, 0.5, 1.0}) {
             const Vec3 p = trap.point(s, t);
-            auto h = trap.intersect(Ray{p + Vec3(0.3, -0.2, 2.0), Vec3(-0.3, 0.2, -2.0)}, 0, 10, HitSide::FrontOnly);
+            auto h = trap.intersect(Ray{p + Vec3(0.3, -0.2, 2.0), Vec3(-0.3, 0.2, -2.0)}, 0, 10,
+                                    HitSide::FrontOnly);
             ASSERT_TRUE(h) << s << " " << t;
             EXPECT_NEAR(h->dist, 1.0, 1e-12);
             EXPECT_NEAR(h->s, s, 1e-12);
@@ -140,7 +140,8 @@ TEST(Quad, RayHitInvertsTheBilinearMap) {
 }
 
 TEST(SceneGeometry, LocatesHitPatchAndLocalCoordinates) {
-    const Scene scene = test::scene_of(test::quad("floor", "[[0, 0, 0], [3, 0, 0], [3, 2, 0], [0, 2, 0]]", 3, 2));
+    const Scene scene =
+        test::scene_of(test::quad("floor", "[[0, 0, 0], [3, 0, 0], [3, 2, 0], [0, 2, 0]]", 3, 2));
     const SceneGeometry geo(scene);
     ASSERT_EQ(geo.patch_count(), 6);
     auto h = geo.intersect_front(Ray{Vec3(2.25, 1.5, 5), Vec3(0, 0, -1)});

@@ -39,8 +39,7 @@ void check_output_path(const fs::path& path) {
     if (!fs::is_directory(dir, ec))
         throw Error(path.string() + ": directory '" + dir.string() +
                     "' does not exist (create it or choose another output path)");
-    if (fs::is_directory(path, ec))
-        throw Error(path.string() + ": is a directory; give a file name");
+    if (fs::is_directory(path, ec)) throw Error(path.string() + ": is a directory; give a file name");
     if (::access(dir.c_str(), W_OK) != 0)
         throw Error(path.string() + ": directory '" + dir.string() + "' is not writable");
 }

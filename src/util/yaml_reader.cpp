@@ -22,19 +22,22 @@ FileLoc loc_of_mark(const YAML::Mark& mark, const std::string& file) {
 
 std::string describe(const YAML::Node& node) {
     switch (node.Type()) {
-        case YAML::NodeType::Map: return "a mapping";
-        case YAML::NodeType::Sequence: return "a list";
-        case YAML::NodeType::Null: return "nothing";
-        case YAML::NodeType::Scalar: return "'" + node.Scalar() + "'";
-        default: return "nothing";
+        case YAML::NodeType::Map:
+            return "a mapping";
+        case YAML::NodeType::Sequence:
+            return "a list";
+        case YAML::NodeType::Null:
+            return "nothing";
+        case YAML::NodeType::Scalar:
+            return "'" + node.Scalar() + "'";
+        default:
+            return "nothing";
     }
 }
 
 }  // namespace
 
-FileLoc loc_of(const YAML::Node& node, const std::string& file) {
-    return loc_of_mark(node.Mark(), file);
-}
+FileLoc loc_of(const YAML::Node& node, const std::string& file) { return loc_of_mark(node.Mark(), file); }
 
 YAML::Node load_yaml_string(const std::string& text, const std::string& filename) {
     if (text.find('\0') != std::string::npos)
@@ -52,14 +55,12 @@ YAML::Node load_yaml_string(const std::string& text, const std::string& filename
 
 std::string read_input_file(const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-        throw Error(path + ": no such file");
-    if (std::filesystem::is_directory(path, ec))
-        throw Error(path + ": is a directory, expected a YAML file");
+    if (!std::filesystem::exists(path, ec)) throw Error(path + ": no such file");
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, expected a YAML file");
     const auto size = std::filesystem::file_size(path, ec);
     if (!ec && size > kMaxInputBytes)
-        throw Error(FileLoc{path, 0, 0}, "file is " + std::to_string(size >> 20) +
-                                              " MiB; input files are limited to 16 MiB");
+        throw Error(FileLoc{path, 0, 0},
+                    "file is " + std::to_string(size >> 20) + " MiB; input files are limited to 16 MiB");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot be read (permissions?)");
     std::ostringstream ss;
@@ -68,8 +69,7 @@ std::string read_input_file(const std::string& path) {
 }
 
 double yaml_number(const YAML::Node& node, const std::string& file, const std::string& what) {
-    if (!node.IsScalar())
-        throw Error(loc_of(node, file), what + " must be a number, got " + describe(node));
+    if (!node.IsScalar()) throw Error(loc_of(node, file), what + " must be a number, got " + describe(node));
     std::string s = node.Scalar();
     std::string lower = s;
     std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
@@ -120,16 +120,15 @@ Vec3 yaml_vec3(const YAML::Node& node, const std::string& file, const std::strin
     if (!node.IsSequence() || node.size() != 3)
         throw Error(loc_of(node, file), what + " must be a list of 3 numbers " + form);
     Vec3 v;
-    for (int k = 0; k < 3; ++k)
-        v[k] = yaml_number(node[k], file, what + "[" + std::to_string(k) + "]");
+    for (int k = 0; k < 3; ++k) v[k] = yaml_number(node[k], file, what + "[" + std::to_string(k) + "]");
     return v;
 }
 
 YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string what)
     : m_node(node), m_file(std::move(file)), m_what(std::move(what)) {
     if (!node.IsMap())
-        throw Error(loc_of(node, m_file), m_what + " must be a mapping of keys to values, got " +
-                                              describe(node));
+        throw Error(loc_of(node, m_file),
+                    m_what + " must be a mapping of keys to values, got " + describe(node));
     std::set<std::string> seen;
     for (const auto& kv : node) {
         const std::string key = kv.first.Scalar();

@@ -1,20 +1,20 @@
 // Every registered surface type, every one of its parameters: changing it alone changes the
 // form-factor cache key, so no two different scenes can share a cached matrix. A type whose
 // write_key forgets a field fails here.
-#include "surfaces/registry.h"
-
 #include <gtest/gtest.h>
 
 #include <set>
 
 #include "cache/cache_file.h"
 #include "scene/scene.h"
+#include "surfaces/registry.h"
 
 namespace radiosa {
 namespace {
 
 // One surface of `type` with the given keys, in a scene of its own.
-Scene one_surface(const SurfaceType& type, const std::vector<SurfaceKeyValue>& keys, const std::string& patches) {
+Scene one_surface(const SurfaceType& type, const std::vector<SurfaceKeyValue>& keys,
+                  const std::string& patches) {
     std::string yaml = "surfaces:\n  - name: s\n    type: " + type.name + "\n    patches: " + patches +
                        "\n    reflectance: [0.5, 0.5, 0.5]\n";
     for (const auto& kv : keys) yaml += "    " + kv.key + ": " + kv.value + "\n";
@@ -55,9 +55,11 @@ TEST(SurfaceRegistry, EveryParameterOfEveryTypeReachesTheCacheKey) {
             const Scene changed = one_surface(*t, with(t->example, v), "[2, 2]");
             EXPECT_TRUE(keys.insert(form_factor_key(changed, options).hex()).second);
         }
-        for (const SurfaceKeyValue& kv : t->example) EXPECT_TRUE(probed.count(kv.key)) << kv.key << " is never changed";
+        for (const SurfaceKeyValue& kv : t->example)
+            EXPECT_TRUE(probed.count(kv.key)) << kv.key << " is never changed";
         for (const char* patches : {"[3, 2]", "[2, 3]"})
-            EXPECT_TRUE(keys.insert(form_factor_key(one_surface(*t, t->example, patches), options).hex()).second);
+            EXPECT_TRUE(
+                keys.insert(form_factor_key(one_surface(*t, t->example, patches), options).hex()).second);
     }
 }
 
@@ -73,7 +75,8 @@ TEST(SurfaceRegistry, EveryFormFactorOptionReachesTheCacheKey) {
 
 TEST(SurfaceRegistry, UnknownTypeNamesTheKnownOnes) {
     try {
-        parse_scene("surfaces:\n  - {name: t, type: teapot, patches: [1, 1], reflectance: [0, 0, 0]}\n", "x.yaml");
+        parse_scene("surfaces:\n  - {name: t, type: teapot, patches: [1, 1], reflectance: [0, 0, 0]}\n",
+                    "x.yaml");
         FAIL() << "no error";
     } catch (const Error& e) {
         EXPECT_STREQ(e.what(), "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere)");
