@@ -103,7 +103,8 @@ const std::string kSphere =
     "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n    patches: [8, 4]\n"
     "    reflectance: [0, 0, 0]\n";
 
-std::vector<Config> configurations() {
+// Flat patches against closed forms (Howell's catalog).
+std::vector<Config> planar_configurations() {
     using namespace analytic;
     std::vector<Config> c;
     auto pair01 = [](double exact) {
@@ -145,6 +146,13 @@ std::vector<Config> configurations() {
                                        quad_yaml("b", "[[0, 0, 1], [0, 1e-4, 1], [1, 1e-4, 1], [1, 0, 1]]"));
                  },
                  pair01(parallel_rectangles(1, 1e-4, 1)), nullptr});
+    return c;
+}
+
+// Curved surfaces: the sphere's inside, nested spheres, a sphere in a cube, the seed scene.
+std::vector<Config> curved_configurations() {
+    using namespace analytic;
+    std::vector<Config> c;
     c.push_back({"inside of a sphere, 8 x 4 patches",
                  [] {
                      return yaml_scene(
@@ -209,6 +217,12 @@ std::vector<Config> configurations() {
                      return e;
                  },
                  nullptr});
+    return c;
+}
+
+std::vector<Config> configurations() {
+    std::vector<Config> c = planar_configurations();
+    for (Config& k : curved_configurations()) c.push_back(std::move(k));
     return c;
 }
 

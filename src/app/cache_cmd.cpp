@@ -1,5 +1,7 @@
 #include "app/cache_cmd.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -46,14 +48,9 @@ std::vector<fs::path> entries(const fs::path& dir, Kind kind) {
 }
 
 std::string human_size(std::uintmax_t b) {
-    char buf[32];
-    if (b < 10 * 1024)
-        std::snprintf(buf, sizeof buf, "%ju B", b);
-    else if (b < 10 * 1024 * 1024)
-        std::snprintf(buf, sizeof buf, "%.0f KiB", b / 1024.0);
-    else
-        std::snprintf(buf, sizeof buf, "%.0f MiB", b / (1024.0 * 1024.0));
-    return buf;
+    if (b < 10 * 1024) return fmt::format("{} B", b);
+    if (b < 10 * 1024 * 1024) return fmt::format("{:.0f} KiB", b / 1024.0);
+    return fmt::format("{:.0f} MiB", b / (1024.0 * 1024.0));
 }
 
 std::string human_age(const fs::path& p) {
@@ -61,16 +58,10 @@ std::string human_age(const fs::path& p) {
     const auto t = fs::last_write_time(p, ec);
     if (ec) return "?";
     const double s = std::chrono::duration<double>(fs::file_time_type::clock::now() - t).count();
-    char buf[32];
-    if (s < 120)
-        std::snprintf(buf, sizeof buf, "%.0f s", std::max(0.0, s));
-    else if (s < 7200)
-        std::snprintf(buf, sizeof buf, "%.0f min", s / 60);
-    else if (s < 172800)
-        std::snprintf(buf, sizeof buf, "%.0f h", s / 3600);
-    else
-        std::snprintf(buf, sizeof buf, "%.0f days", s / 86400);
-    return buf;
+    if (s < 120) return fmt::format("{:.0f} s", std::max(0.0, s));
+    if (s < 7200) return fmt::format("{:.0f} min", s / 60);
+    if (s < 172800) return fmt::format("{:.0f} h", s / 3600);
+    return fmt::format("{:.0f} days", s / 86400);
 }
 
 }  // namespace
@@ -79,21 +70,17 @@ void cache_list(const fs::path& dir, std::ostream& out) {
     const auto files = entries(dir, Kind::Matrix);
     out << "cache " << dir.string() << ": " << files.size() << " matrix file(s)\n";
     if (files.empty()) return;
-    char buf[512];
-    std::snprintf(buf, sizeof buf, "%-32s  %-24s %8s %10s %9s\n", "key", "scene", "patches", "size", "age");
-    out << buf;
+    out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", "key", "scene", "patches", "size", "age");
     for (const auto& f : files) {
         std::error_code ec;
         const std::string size = human_size(fs::file_size(f, ec));
         try {
             const CacheFileInfo info = read_cache_info(f);
-            std::snprintf(buf, sizeof buf, "%-32s  %-24s %8llu %10s %9s\n", f.stem().string().c_str(),
-                          info.scene_name.c_str(), static_cast<unsigned long long>(info.patches),
-                          size.c_str(), human_age(f).c_str());
+            out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", f.stem().string(), info.scene_name,
+                               info.patches, size, human_age(f));
         } catch (const CacheFileError& e) {
-            std::snprintf(buf, sizeof buf, "%-32s  unreadable: %s\n", f.stem().string().c_str(), e.what());
+            out << fmt::format("{:<32}  unreadable: {}\n", f.stem().string(), e.what());
         }
-        out << buf;
     }
 }
 

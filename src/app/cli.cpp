@@ -127,6 +127,138 @@ std::string default_output(const StillJob& job) {
         .string();
 }
 
+// Every subcommand with the job its options fill.
+struct Commands {
+    bool quiet = false;
+    StillJob still;
+    SequenceOptions sequence;
+    FormFactorsJob formfactors_job;
+    AccuracyJob accuracy_job;
+    CacheSettings cache_dir;
+    CLI::App *render = nullptr, *formfactors = nullptr, *accuracy = nullptr, *cache = nullptr;
+    CLI::App *cache_list = nullptr, *cache_verify = nullptr, *cache_clear = nullptr;
+};
+
+void add_accuracy_command(CLI::App& app, Commands* c) {
+    AccuracyJob& job = c->accuracy_job;
+    c->accuracy = app.add_subcommand(
+        "accuracy",
+        "Form-factor error against run time on configurations with known answers (CSV, Markdown)");
+    c->accuracy->add_option("--out", job.out_dir, "Output directory (default out/accuracy)");
+    c->accuracy->add_flag("--quick", job.quick, "A few methods only (a smoke test)");
+    c->accuracy
+        ->add_option(
+            "--budget", job.budget_s,
+            "Stop refining a method on a configuration once one run takes longer (seconds, default 30)")
+        ->check(CLI::Range(0.01, 3600.0));
+    c->accuracy->add_option("--threads", job.threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 1024));
+}
+
+void add_cache_command(CLI::App& app, Commands* c) {
+    c->cache = app.add_subcommand("cache", "Inspect or empty the form-factor cache");
+    c->cache->require_subcommand(1, 1);
+    c->cache_list = c->cache->add_subcommand("list", "List cached matrices: key, scene, patches, size, age");
+    c->cache_verify =
+        c->cache->add_subcommand("verify", "Check every cached matrix completely; exit 1 if any is bad");
+    c->cache_clear = c->cache->add_subcommand("clear", "Remove cached matrices, stale temporaries and locks");
+    for (CLI::App* sub : {c->cache_list, c->cache_verify, c->cache_clear})
+        add_cache_dir_option(sub, &c->cache_dir);
+}
+
+// --help (also on a subcommand) and --version exit 0; anything else is a usage error, exit 1.
+int parse_error(const CLI::App& app, const Commands& c, const CLI::ParseError& e, std::ostream& out,
+                std::ostream& err) {
+    if (e.get_exit_code() != 0) {
+        err << "error: " << e.what() << " (see 'radiosa --help')\n";
+        return 1;
+    }
+    for (const CLI::App* sub :
+         {c.render, c.formfactors, c.accuracy, c.cache_list, c.cache_verify, c.cache_clear, c.cache})
+        if (sub->parsed()) {
+            out << sub->help();
+            return 0;
+        }
+    out << app.help();
+    return 0;
+}
+
+SequenceJob sequence_job(const Commands& c, const WarningSink& warn, std::ostream& err) {
+    const StillJob& job = c.still;
+    SequenceJob sj;
+    sj.scene_path = job.scene_path;
+    sj.sequence_path = c.sequence.sequence;
+    sj.outputs = job.outputs.empty() ? std::vector<std::string>{default_sequence_output(sj.sequence_path)}
+                                     : job.outputs;
+    sj.report_path = job.report_path;
+    if (c.render->count("--width")) sj.width = job.render.width;
+    if (c.render->count("--height")) sj.height = job.render.height;
+    if (c.render->count("--samples")) sj.samples = job.render.samples;
+    sj.form_factors = job.form_factors;
+    sj.solver = job.solver;
+    sj.exposure = job.exposure;
+    sj.crf = c.sequence.crf;
+    sj.palette = c.sequence.palette;
+    sj.quantiser = c.sequence.quantiser;
+    sj.threads = job.threads;
+    sj.warn = warn;
+    if (!c.quiet && &err == &std::cerr && ::isatty(2)) sj.progress = &err;
+    return sj;
+}
+
+// render: the demo (no arguments), a sequence, or a still.
+int run_render(bool no_subcommand, Commands& c, const WarningSink& warn, std::ostream& out,
+               std::ostream& err) {
+    StillJob& job = c.still;
+    std::string& sequence = c.sequence.sequence;
+    if (no_subcommand || (job.scene_path.empty() && job.camera_path.empty() && sequence.empty())) {
+        sequence = kDemoSequence;
+        job.scene_path = kDemoScene;
+        if (job.outputs.empty()) job.outputs = {default_sequence_output(kDemoSequence)};
+        if (!job.report_path) job.report_path = kDemoReport;
+    }
+    if (!sequence.empty()) {
+        const SequenceJob sj = sequence_job(c, warn, err);
+        const SequenceReport report = run_sequence_job(sj);
+        if (!c.quiet) out << sequence_summary(sj, report);
+        return 0;
+    }
+    if (c.sequence.palette > 0) throw Error("render: --palette applies to sequences (--sequence)");
+    if (job.camera_path.empty())
+        throw Error(
+            "render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation");
+    if (job.scene_path.empty())
+        throw Error("render: a still needs the scene file (radiosa render SCENE.yaml --camera ...)");
+    if (job.outputs.empty()) job.outputs.push_back(default_output(job));
+    const StillReport report = run_still(job);
+    if (!c.quiet) out << still_summary(job, report);
+    return 0;
+}
+
+int run_command(const CLI::App& app, Commands& c, const WarningSink& warn, std::ostream& out,
+                std::ostream& err) {
+    const std::filesystem::path dir = c.cache_dir.dir.empty() ? default_cache_dir() : c.cache_dir.dir;
+    if (c.cache_list->parsed()) {
+        cache_list(dir, out);
+        return 0;
+    }
+    if (c.cache_verify->parsed()) return cache_verify(dir, out) ? 0 : 1;
+    if (c.cache_clear->parsed()) {
+        cache_clear(dir, out);
+        return 0;
+    }
+    if (c.accuracy->parsed()) {
+        run_accuracy(c.accuracy_job, out);
+        return 0;
+    }
+    if (c.formfactors->parsed()) {
+        const std::string summary = run_formfactors(c.formfactors_job);
+        if (!c.quiet) out << summary;
+        return 0;
+    }
+    return run_render(app.get_subcommands().empty(), c, warn, out, err);
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -136,49 +268,17 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     app.set_version_flag("--version",
                          std::string("radiosa " RADIOSA_VERSION "; video and palette outputs (libav): ") +
                              (kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF"));
-    bool quiet = false;
     const WarningSink warn = [&err](const std::string& w) { err << "warning: " << w << "\n"; };
-
-    StillJob job;
-    job.warn = warn;
-    SequenceOptions so;
-    std::string& sequence = so.sequence;
-    CLI::App* render = app.add_subcommand(
+    Commands c;
+    c.still.warn = c.formfactors_job.warn = warn;
+    c.render = app.add_subcommand(
         "render", "Render a still (--camera) or an animation (--sequence); with no arguments, the demo");
-    add_render_options(render, &job, &so, &quiet);
-
-    FormFactorsJob ffjob;
-    ffjob.warn = warn;
-    CLI::App* formfactors =
+    add_render_options(c.render, &c.still, &c.sequence, &c.quiet);
+    c.formfactors =
         app.add_subcommand("formfactors", "Compute or load a scene's form factors, check and export them");
-    add_formfactors_options(formfactors, &ffjob, &quiet);
-
-    AccuracyJob accuracy_job;
-    CLI::App* accuracy = app.add_subcommand(
-        "accuracy",
-        "Form-factor error against run time on configurations with known answers (CSV, Markdown, plot)");
-    accuracy->add_option("--out", accuracy_job.out_dir, "Output directory (default out/accuracy)");
-    accuracy->add_flag("--quick", accuracy_job.quick, "A few methods only (a smoke test)");
-    accuracy
-        ->add_option(
-            "--budget", accuracy_job.budget_s,
-            "Stop refining a method on a configuration once one run takes longer (seconds, default 30)")
-        ->check(CLI::Range(0.01, 3600.0));
-    accuracy->add_option("--threads", accuracy_job.threads, "Worker threads (0 = all cores)")
-        ->check(CLI::Range(0, 1024));
-
-    CacheSettings cache_dir;
-    CLI::App* cache = app.add_subcommand("cache", "Inspect or empty the form-factor cache");
-    cache->require_subcommand(1, 1);
-    CLI::App* cache_list_cmd =
-        cache->add_subcommand("list", "List cached matrices: key, scene, patches, size, age");
-    CLI::App* cache_verify_cmd =
-        cache->add_subcommand("verify", "Check every cached matrix completely; exit 1 if any is bad");
-    CLI::App* cache_clear_cmd =
-        cache->add_subcommand("clear", "Remove cached matrices, stale temporaries and locks");
-    for (CLI::App* c : {cache_list_cmd, cache_verify_cmd, cache_clear_cmd})
-        add_cache_dir_option(c, &cache_dir);
-
+    add_formfactors_options(c.formfactors, &c.formfactors_job, &c.quiet);
+    add_accuracy_command(app, &c);
+    add_cache_command(app, &c);
     try {
         try {
             app.parse(argc, argv);
@@ -189,79 +289,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
             out << v.what() << "\n";
             return 0;
         } catch (const CLI::ParseError& e) {
-            if (e.get_exit_code() == 0) {  // --help on a subcommand
-                for (CLI::App* c : {render, formfactors, accuracy, cache_list_cmd, cache_verify_cmd,
-                                    cache_clear_cmd, cache})
-                    if (c->parsed()) {
-                        out << c->help();
-                        return 0;
-                    }
-                out << app.help();
-                return 0;
-            }
-            err << "error: " << e.what() << " (see 'radiosa --help')\n";
-            return 1;
+            return parse_error(app, c, e, out, err);
         }
-        const std::filesystem::path dir = cache_dir.dir.empty() ? default_cache_dir() : cache_dir.dir;
-        if (cache_list_cmd->parsed()) {
-            cache_list(dir, out);
-            return 0;
-        }
-        if (cache_verify_cmd->parsed()) return cache_verify(dir, out) ? 0 : 1;
-        if (cache_clear_cmd->parsed()) {
-            cache_clear(dir, out);
-            return 0;
-        }
-        if (accuracy->parsed()) {
-            run_accuracy(accuracy_job, out);
-            return 0;
-        }
-        if (formfactors->parsed()) {
-            const std::string summary = run_formfactors(ffjob);
-            if (!quiet) out << summary;
-            return 0;
-        }
-        const bool demo = app.get_subcommands().empty() ||
-                          (job.scene_path.empty() && job.camera_path.empty() && sequence.empty());
-        if (demo) {
-            sequence = kDemoSequence;
-            job.scene_path = kDemoScene;
-            if (job.outputs.empty()) job.outputs = {default_sequence_output(kDemoSequence)};
-            if (!job.report_path) job.report_path = kDemoReport;
-        }
-        if (!sequence.empty()) {
-            SequenceJob sj;
-            sj.scene_path = job.scene_path;
-            sj.sequence_path = sequence;
-            sj.outputs = job.outputs.empty() ? std::vector<std::string>{default_sequence_output(sequence)}
-                                             : job.outputs;
-            sj.report_path = job.report_path;
-            if (render->count("--width")) sj.width = job.render.width;
-            if (render->count("--height")) sj.height = job.render.height;
-            if (render->count("--samples")) sj.samples = job.render.samples;
-            sj.form_factors = job.form_factors;
-            sj.solver = job.solver;
-            sj.exposure = job.exposure;
-            sj.crf = so.crf;
-            sj.palette = so.palette;
-            sj.quantiser = so.quantiser;
-            sj.threads = job.threads;
-            sj.warn = warn;
-            if (!quiet && &err == &std::cerr && ::isatty(2)) sj.progress = &err;
-            const SequenceReport report = run_sequence_job(sj);
-            if (!quiet) out << sequence_summary(sj, report);
-            return 0;
-        }
-        if (so.palette > 0) throw Error("render: --palette applies to sequences (--sequence)");
-        if (job.camera_path.empty())
-            throw Error(
-                "render: give --camera CAMERA.yaml for a still or --sequence SEQUENCE.yaml for an animation");
-        if (job.scene_path.empty())
-            throw Error("render: a still needs the scene file (radiosa render SCENE.yaml --camera ...)");
-        if (job.outputs.empty()) job.outputs.push_back(default_output(job));
-        const StillReport report = run_still(job);
-        if (!quiet) out << still_summary(job, report);
-        return 0;
+        return run_command(app, c, warn, out, err);
     } catch (const Error& e) {
         err << "error: " << e.what() << "\n";
         return 1;

@@ -11,20 +11,10 @@
 
 namespace radiosa {
 
-namespace {
-
-Prepared load(const std::string& scene_path) {
-    Scene scene = load_scene(scene_path);
-    SceneGeometry geometry(scene);
-    return Prepared{std::move(scene), std::move(geometry)};
-}
-
-}  // namespace
-
 Prepared prepare(const std::string& scene_path, const FormFactorRequest& request, const WarningSink& warn,
                  const std::function<void(const Prepared&)>& check_inputs) {
     Stopwatch clock;
-    Prepared p = load(scene_path);
+    Prepared p(load_scene(scene_path));
     if (check_inputs) check_inputs(p);
     p.load_s = clock.seconds();
 

@@ -17,6 +17,8 @@
 namespace radiosa {
 
 struct Prepared {
+    explicit Prepared(Scene s) : scene(std::move(s)), geometry(scene) {}
+
     Scene scene;
     SceneGeometry geometry;
     FormFactorOptions options;  // as resolved from the command line and the scene file

@@ -48,7 +48,7 @@ StillReport run_still(const StillJob& job) {
     Stopwatch clock;
     const CameraDesc camera = load_camera(job.camera_path);
     const double camera_s = clock.seconds();
-    StillReport r{prepare(job.scene_path, job.form_factors, job.warn)};
+    StillReport r(prepare(job.scene_path, job.form_factors, job.warn));
     const Prepared& p = r.prep;
     r.threads = limit.threads();
     r.times.load_s = p.load_s + camera_s;

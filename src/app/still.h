@@ -30,6 +30,8 @@ struct StageTimes {
 };
 
 struct StillReport {
+    explicit StillReport(Prepared p) : prep(std::move(p)) {}
+
     Prepared prep;  // scene, geometry, form factors, their cache and checks
     int threads = 0;
     int factorisations = 0;

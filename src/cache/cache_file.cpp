@@ -223,6 +223,102 @@ CacheFileInfo read_cache_info(const fs::path& path) {
     }
 }
 
+namespace {
+
+CacheFileError table_mismatch(const std::string& what) {
+    return CacheFileError("patch table does not match the scene: " + what);
+}
+
+// The per-surface subdivision; with `geometry`, it must be the scene's.
+void read_surface_table(ByteReader& in, const Header& h, const SceneGeometry* geometry,
+                        std::vector<std::uint32_t>* ns, std::vector<std::uint32_t>* nt) {
+    ns->resize(h.info.surfaces);
+    nt->resize(h.info.surfaces);
+    for (std::size_t k = 0; k < h.info.surfaces; ++k) {
+        in.str();  // the surface's name: for `cache list`, not checked
+        (*ns)[k] = in.u32();
+        (*nt)[k] = in.u32();
+    }
+    if (!geometry) return;
+    const std::size_t n = h.info.patches;
+    if (static_cast<std::size_t>(geometry->patch_count()) != n)
+        throw table_mismatch(std::to_string(n) + " patches, the scene has " +
+                             std::to_string(geometry->patch_count()));
+    if (static_cast<std::size_t>(geometry->surface_count()) != h.info.surfaces)
+        throw table_mismatch(std::to_string(h.info.surfaces) + " surfaces, the scene has " +
+                             std::to_string(geometry->surface_count()));
+    for (std::size_t k = 0; k < h.info.surfaces; ++k)
+        if ((*ns)[k] != static_cast<std::uint32_t>(geometry->ns(static_cast<int>(k))) ||
+            (*nt)[k] != static_cast<std::uint32_t>(geometry->nt(static_cast<int>(k))))
+            throw table_mismatch("surface " + std::to_string(k) + " is split differently");
+}
+
+// Each patch's surface, indices and area; with `geometry`, they must be the scene's.
+void read_patch_table(ByteReader& in, const Header& h, const SceneGeometry* geometry, FormFactors* ff) {
+    std::vector<std::uint32_t> ns, nt;
+    read_surface_table(in, h, geometry, &ns, &nt);
+    for (std::size_t i = 0; i < h.info.patches; ++i) {
+        const std::uint32_t s = in.u32(), is = in.u32(), it = in.u32();
+        const double area = ff->area[i] = in.f64();
+        if (s >= h.info.surfaces || is >= ns[s] || it >= nt[s] || !(area > 0.0) || !std::isfinite(area))
+            throw CacheFileError("patch table entry " + std::to_string(i) + " is invalid");
+        if (!geometry) continue;
+        const Patch& p = geometry->patch(static_cast<int>(i));
+        if (static_cast<int>(s) != p.surface || static_cast<int>(is) != p.is ||
+            static_cast<int>(it) != p.it || std::abs(area - p.area) > 1e-12 * p.area)
+            throw table_mismatch("patch " + std::to_string(i) + " differs");
+    }
+}
+
+// The matrix section, decompressed when it is compressed.
+std::vector<std::uint8_t> unpack_section(ByteReader& in, const Header& h, std::size_t n) {
+    const std::uint8_t* sec = in.take(h.stored);
+    if (h.compression != kCompressZstd) return {sec, sec + h.stored};
+    if (h.raw > 16 * n * n + 8 * (n + 1) + 64) throw CacheFileError("implausible uncompressed size");
+    std::vector<std::uint8_t> unpacked(h.raw);
+    const std::size_t got = ZSTD_decompress(unpacked.data(), unpacked.size(), sec, h.stored);
+    if (ZSTD_isError(got) || got != h.raw) throw CacheFileError("compressed matrix does not decompress");
+    return unpacked;
+}
+
+void read_csr(ByteReader& m, std::size_t n, DenseMatrix* F) {
+    std::vector<std::uint64_t> start(n + 1);
+    for (auto& v : start) v = m.u64();
+    const std::uint64_t nnz = start[n];
+    for (std::size_t i = 0; i < n; ++i)
+        if (start[i] > start[i + 1]) throw CacheFileError("sparse row table is not increasing");
+    if (start[0] != 0 || nnz > n * n || m.remaining() < 12 * nnz)
+        throw CacheFileError("sparse matrix sizes are inconsistent");
+    std::vector<std::uint32_t> col(nnz);
+    for (auto& c : col) c = m.u32();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::uint64_t k = start[i]; k < start[i + 1]; ++k) {
+            if (col[k] >= n) throw CacheFileError("sparse column index out of range");
+            (*F)(static_cast<int>(i), static_cast<int>(col[k])) = m.f64();
+        }
+}
+
+void read_matrix(ByteReader& in, const Header& h, FormFactors* ff) {
+    const std::size_t n = h.info.patches;
+    const std::vector<std::uint8_t> section = unpack_section(in, h, n);
+    ByteReader m(section.data(), section.size());
+    if (h.layout == kLayoutDense)
+        m.f64_array(ff->F.data.data(), n * n);
+    else
+        read_csr(m, n, &ff->F);
+    if (h.info.has_error_estimates) {
+        ff->error.resize(n * n);
+        m.f64_array(ff->error.data(), n * n);
+    }
+    if (m.remaining() != 0) throw CacheFileError("matrix section has trailing bytes");
+    for (std::size_t k = 0; k < n * n; ++k)
+        if (!(ff->F.data[k] >= 0.0) || !std::isfinite(ff->F.data[k]))
+            throw CacheFileError("entry (" + std::to_string(k / n) + "," + std::to_string(k % n) +
+                                 ") is negative or not finite");
+}
+
+}  // namespace
+
 FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>& expected_key,
                             const SceneGeometry* geometry, CacheFileInfo* info_out) {
     const std::vector<std::uint8_t> bytes = read_all(path);
@@ -239,45 +335,10 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
                                  expected_key->hex() + " (a file from another scene or settings)");
         if (info_out) *info_out = h.info;
 
-        const std::size_t n = h.info.patches;
         FormFactors ff;
-        ff.F = DenseMatrix(static_cast<int>(n));
-        ff.area.resize(n);
-        std::vector<std::uint32_t> ns(h.info.surfaces), nt(h.info.surfaces);
-        std::vector<std::string> names(h.info.surfaces);
-        for (std::size_t k = 0; k < h.info.surfaces; ++k) {
-            names[k] = in.str();
-            ns[k] = in.u32();
-            nt[k] = in.u32();
-        }
-        auto mismatch = [](const std::string& what) {
-            return CacheFileError("patch table does not match the scene: " + what);
-        };
-        if (geometry) {
-            if (static_cast<std::size_t>(geometry->patch_count()) != n)
-                throw mismatch(std::to_string(n) + " patches, the scene has " +
-                               std::to_string(geometry->patch_count()));
-            if (static_cast<std::size_t>(geometry->surface_count()) != h.info.surfaces)
-                throw mismatch(std::to_string(h.info.surfaces) + " surfaces, the scene has " +
-                               std::to_string(geometry->surface_count()));
-            for (std::size_t k = 0; k < h.info.surfaces; ++k)
-                if (ns[k] != static_cast<std::uint32_t>(geometry->ns(static_cast<int>(k))) ||
-                    nt[k] != static_cast<std::uint32_t>(geometry->nt(static_cast<int>(k))))
-                    throw mismatch("surface " + std::to_string(k) + " is split differently");
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::uint32_t s = in.u32(), is = in.u32(), it = in.u32();
-            ff.area[i] = in.f64();
-            if (s >= h.info.surfaces || is >= ns[s] || it >= nt[s] || !(ff.area[i] > 0.0) ||
-                !std::isfinite(ff.area[i]))
-                throw CacheFileError("patch table entry " + std::to_string(i) + " is invalid");
-            if (geometry) {
-                const Patch& p = geometry->patch(static_cast<int>(i));
-                if (static_cast<int>(s) != p.surface || static_cast<int>(is) != p.is ||
-                    static_cast<int>(it) != p.it || std::abs(ff.area[i] - p.area) > 1e-12 * p.area)
-                    throw mismatch("patch " + std::to_string(i) + " differs");
-            }
-        }
+        ff.F = DenseMatrix(static_cast<int>(h.info.patches));
+        ff.area.resize(h.info.patches);
+        read_patch_table(in, h, geometry, &ff);
         const int gauss_points = static_cast<int>(in.u32());
         const double tolerance = in.f64();
         ff.options = gauss_points > 0 ? FormFactorOptions::gauss(gauss_points)
@@ -286,47 +347,7 @@ FormFactors read_cache_file(const fs::path& path, const std::optional<CacheKey>&
         if (h.stored != in.remaining() - 8)
             throw CacheFileError("matrix section is " + std::to_string(in.remaining() - 8) +
                                  " bytes, header says " + std::to_string(h.stored));
-
-        std::vector<std::uint8_t> unpacked;
-        const std::uint8_t* sec = in.take(h.stored);
-        std::size_t sec_size = h.stored;
-        if (h.compression == kCompressZstd) {
-            if (h.raw > 16 * n * n + 8 * (n + 1) + 64) throw CacheFileError("implausible uncompressed size");
-            unpacked.resize(h.raw);
-            const std::size_t got = ZSTD_decompress(unpacked.data(), unpacked.size(), sec, sec_size);
-            if (ZSTD_isError(got) || got != h.raw)
-                throw CacheFileError("compressed matrix does not decompress");
-            sec = unpacked.data();
-            sec_size = unpacked.size();
-        }
-        ByteReader m(sec, sec_size);
-        if (h.layout == kLayoutDense) {
-            m.f64_array(ff.F.data.data(), n * n);
-        } else {
-            std::vector<std::uint64_t> start(n + 1);
-            for (auto& v : start) v = m.u64();
-            const std::uint64_t nnz = start[n];
-            for (std::size_t i = 0; i < n; ++i)
-                if (start[i] > start[i + 1]) throw CacheFileError("sparse row table is not increasing");
-            if (start[0] != 0 || nnz > n * n || m.remaining() < 12 * nnz)
-                throw CacheFileError("sparse matrix sizes are inconsistent");
-            std::vector<std::uint32_t> col(nnz);
-            for (auto& c : col) c = m.u32();
-            for (std::size_t i = 0; i < n; ++i)
-                for (std::uint64_t k = start[i]; k < start[i + 1]; ++k) {
-                    if (col[k] >= n) throw CacheFileError("sparse column index out of range");
-                    ff.F(static_cast<int>(i), static_cast<int>(col[k])) = m.f64();
-                }
-        }
-        if (h.info.has_error_estimates) {
-            ff.error.resize(n * n);
-            m.f64_array(ff.error.data(), n * n);
-        }
-        if (m.remaining() != 0) throw CacheFileError("matrix section has trailing bytes");
-        for (std::size_t k = 0; k < n * n; ++k)
-            if (!(ff.F.data[k] >= 0.0) || !std::isfinite(ff.F.data[k]))
-                throw CacheFileError("entry (" + std::to_string(k / n) + "," + std::to_string(k % n) +
-                                     ") is negative or not finite");
+        read_matrix(in, h, &ff);
         return ff;
     } catch (const ByteReader::Truncated&) {
         throw CacheFileError("file is truncated (" + std::to_string(bytes.size()) + " bytes)");
@@ -386,41 +407,30 @@ private:
 
 }  // namespace
 
-FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
-                                const FormFactorOptions& options, const CacheSettings& settings,
-                                const WarningSink& warn, CacheOutcome* outcome) {
+namespace {
+
+// One run's use of the cache for one matrix: what it loaded, computed and wrote, and why.
+class CacheRun {
+public:
+    CacheRun(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
+             const WarningSink& warn)
+        : m_scene(scene), m_geometry(geometry), m_options(options), m_warn(warn) {}
+
     CacheOutcome o;
-    auto finish = [&](FormFactors ff) {
-        if (outcome) *outcome = o;
-        return ff;
-    };
-    auto compute = [&] {
+
+    FormFactors compute() {
         const Stopwatch clock;
-        FormFactors ff = compute_form_factors(geometry, options);
+        FormFactors ff = compute_form_factors(m_geometry, m_options);
         o.compute_s = clock.seconds();
         return ff;
-    };
-    if (!settings.enabled) return finish(compute());
-    if (!options.culling) {
-        // A timing diagnostic: it must be computed to be timed, and in error-controlled mode
-        // (no closed form without the proofs) its matrix is less accurate: never stored.
-        o.reason = "--no-culling";
-        return finish(compute());
     }
-
-    const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
-    const CacheKey key = form_factor_key(scene, options);
-    const fs::path path = dir / (key.hex() + ".rff");
-    o.key = key.hex();
-    o.file = path.string();
-
-    // Returns the matrix when the file exists and is sound; records why not otherwise.
-    auto try_load = [&]() -> std::optional<FormFactors> {
+    // The matrix when the file exists and is sound; records why not otherwise.
+    std::optional<FormFactors> try_load(const fs::path& path, const CacheKey& key) {
         const Stopwatch clock;
         std::error_code ec;
         if (!fs::exists(path, ec)) return std::nullopt;
         try {
-            FormFactors ff = read_cache_file(path, key, &geometry);
+            FormFactors ff = read_cache_file(path, key, &m_geometry);
             o.load_s += clock.seconds();
             return ff;
         } catch (const CacheFileError& e) {
@@ -428,49 +438,87 @@ FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometr
             o.reason = e.what();
             return std::nullopt;
         }
-    };
-
-    if (auto ff = try_load()) {
-        o.status = CacheStatus::Hit;
-        return finish(std::move(*ff));
     }
-    if (!o.reason.empty()) warn("cache file " + path.string() + ": " + o.reason + "; recomputing it");
-
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir, ec)) {
+    // Computes the matrix and writes its file; an unwritable cache is a warning, not an error.
+    FormFactors compute_and_store(const fs::path& path, const CacheKey& key) {
+        o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
+        FormFactors ff = compute();
+        const Stopwatch clock;
+        try {
+            write_cache_file(path, key, m_scene.name, m_geometry, ff);
+            o.written = true;
+        } catch (const Error& e) {
+            m_warn(std::string("cannot write the form-factor cache: ") + e.what() +
+                   "; the run goes on without it");
+            if (o.reason.empty()) o.reason = std::string("not written: ") + e.what();
+        }
+        o.write_s = clock.seconds();
+        return ff;
+    }
+    // Computes without storing: the cache directory cannot be made.
+    FormFactors compute_unstored(const fs::path& dir, const std::error_code& ec) {
         o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
         const std::string why = "cannot create cache directory " + dir.string() + ": " +
                                 (ec ? ec.message() : std::string("not a directory"));
-        warn(why + "; form factors are computed but not cached");
+        m_warn(why + "; form factors are computed but not cached");
         if (o.reason.empty()) o.reason = why;
-        return finish(compute());
+        return compute();
     }
+
+private:
+    const Scene& m_scene;
+    const SceneGeometry& m_geometry;
+    const FormFactorOptions& m_options;
+    const WarningSink& m_warn;
+};
+
+FormFactors obtain(CacheRun& run, const Scene& scene, const FormFactorOptions& options,
+                   const CacheSettings& settings, const WarningSink& warn) {
+    if (!settings.enabled) return run.compute();
+    if (!options.culling) {
+        // A timing diagnostic: it must be computed to be timed, and in error-controlled mode
+        // (no closed form without the proofs) its matrix is less accurate: never stored.
+        run.o.reason = "--no-culling";
+        return run.compute();
+    }
+    const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
+    const CacheKey key = form_factor_key(scene, options);
+    const fs::path path = dir / (key.hex() + ".rff");
+    run.o.key = key.hex();
+    run.o.file = path.string();
+
+    if (auto ff = run.try_load(path, key)) {
+        run.o.status = CacheStatus::Hit;
+        return std::move(*ff);
+    }
+    if (!run.o.reason.empty()) warn("cache file " + path.string() + ": " + run.o.reason + "; recomputing it");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir, ec)) return run.compute_unstored(dir, ec);
 
     const Stopwatch waited;
     const KeyLock lock(dir / (key.hex() + ".lock"));
-    o.wait_s = waited.seconds();
+    run.o.wait_s = waited.seconds();
     // Another process may have computed it while this one waited for the lock.
-    const std::string first_reason = o.reason;
-    if (auto ff = try_load()) {
-        o.status = CacheStatus::Hit;
-        o.reason.clear();
-        return finish(std::move(*ff));
+    const std::string first_reason = run.o.reason;
+    if (auto ff = run.try_load(path, key)) {
+        run.o.status = CacheStatus::Hit;
+        run.o.reason.clear();
+        return std::move(*ff);
     }
-    if (o.reason.empty()) o.reason = first_reason;
-    o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
+    if (run.o.reason.empty()) run.o.reason = first_reason;
+    return run.compute_and_store(path, key);
+}
 
-    FormFactors ff = compute();
-    const Stopwatch clock;
-    try {
-        write_cache_file(path, key, scene.name, geometry, ff);
-        o.written = true;
-    } catch (const Error& e) {
-        warn(std::string("cannot write the form-factor cache: ") + e.what() + "; the run goes on without it");
-        if (o.reason.empty()) o.reason = std::string("not written: ") + e.what();
-    }
-    o.write_s = clock.seconds();
-    return finish(std::move(ff));
+}  // namespace
+
+FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
+                                const FormFactorOptions& options, const CacheSettings& settings,
+                                const WarningSink& warn, CacheOutcome* outcome) {
+    CacheRun run(scene, geometry, options, warn);
+    FormFactors ff = obtain(run, scene, options, settings, warn);
+    if (outcome) *outcome = run.o;
+    return ff;
 }
 
 }  // namespace radiosa

@@ -1,5 +1,7 @@
 #include "formfactor/matrix_export.h"
 
+#include <fmt/format.h>
+
 #include <cstdio>
 #include <sstream>
 
@@ -20,11 +22,7 @@ std::string lower_extension(const fs::path& p) {
     return e;
 }
 
-std::string fmt17(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
-}
+std::string fmt17(double v) { return fmt::format("{:.17g}", v); }
 
 std::string patch_table_csv(const SceneGeometry& g, const FormFactors& ff, bool with_matrix) {
     std::ostringstream s;

@@ -37,6 +37,64 @@ double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d,
     return len;
 }
 
+// Cuts the polygon to x's front half-space n . (y - x) >= 0 (Sutherland-Hodgman), reversing the
+// order so that, seen from outside the sphere of directions, the boundary runs counter-clockwise.
+int clip_to_front(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                  std::array<Vec3, kMaxVerts>* clipped) {
+    int nc = 0;
+    for (int k = count - 1; k >= 0; --k) {
+        const Vec3& a = v[k];
+        const Vec3& b = v[(k + count - 1) % count];
+        const double da = glm::dot(n, a - x), db = glm::dot(n, b - x);
+        if (da >= 0.0) (*clipped)[nc++] = a;
+        if ((da >= 0.0) != (db >= 0.0) && nc < kMaxVerts) (*clipped)[nc++] = a + (b - a) * (da / (da - db));
+    }
+    return nc;
+}
+
+// Adds to `blocked`, term by term, the Lambert integral along the arcs of the cap's boundary circle, w(t) =
+// cos_a d + sin_a (cos t e1 + sin t e2), that lie inside the spherical polygon w[0..nc).
+double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& w, int nc, const Vec3& n,
+                             const Vec3& d, double sin_a, double cos_a) {
+    const Vec3 e1 =
+        unit_or_zero(std::abs(d.x) < 0.9 ? glm::cross(d, Vec3(1, 0, 0)) : glm::cross(d, Vec3(0, 1, 0)));
+    const Vec3 e2 = glm::cross(d, e1);
+    std::array<double, 2 * kMaxVerts + 2> cuts{};
+    int ncuts = 0;
+    std::array<Vec3, kMaxVerts> mk;
+    for (int k = 0; k < nc; ++k) {
+        mk[k] = glm::cross(w[k], w[(k + 1) % nc]);
+        const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
+        const double amp = std::sqrt(b1 * b1 + b2 * b2);
+        if (amp * sin_a <= std::abs(a0) * cos_a)
+            continue;  // the circle does not cross this edge's great circle
+        const double tk = std::atan2(b2, b1),
+                     beta = std::acos(std::clamp(-cos_a * a0 / (sin_a * amp), -1.0, 1.0));
+        for (double t : {tk - beta, tk + beta}) {
+            t = std::fmod(t, 2 * kPi);
+            if (t < 0) t += 2 * kPi;
+            cuts[ncuts++] = t;
+        }
+    }
+    cuts[ncuts++] = 0.0;
+    cuts[ncuts++] = 2 * kPi;
+    std::sort(cuts.begin(), cuts.begin() + ncuts);
+    for (int c = 0; c + 1 < ncuts; ++c) {
+        const double t1 = cuts[c], t2 = cuts[c + 1];
+        if (t2 - t1 <= 0.0) continue;
+        const double tm = 0.5 * (t1 + t2);
+        const Vec3 wm = cos_a * d + sin_a * (std::cos(tm) * e1 + std::sin(tm) * e2);
+        bool inside = true;
+        for (int k = 0; k < nc && inside; ++k) inside = glm::dot(wm, mk[k]) >= 0.0;
+        if (!inside) continue;
+        const Vec3 integral =
+            cos_a * sin_a * ((std::cos(t2) - std::cos(t1)) * e2 - (std::sin(t2) - std::sin(t1)) * e1) +
+            sin_a * sin_a * (t2 - t1) * d;
+        blocked += glm::dot(n, integral);
+    }
+    return blocked;
+}
+
 }  // namespace
 
 double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
@@ -46,17 +104,8 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
     for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
     if (glm::dot(m, x - v[0]) <= 0.0) return 0.0;
 
-    // Cut to x's front half-space n . (y - x) >= 0 (Sutherland-Hodgman), reversing the order
-    // so that, seen from outside the sphere of directions, the boundary runs counter-clockwise.
     std::array<Vec3, kMaxVerts> clipped;
-    int nc = 0;
-    for (int k = count - 1; k >= 0; --k) {
-        const Vec3& a = v[k];
-        const Vec3& b = v[(k + count - 1) % count];
-        const double da = glm::dot(n, a - x), db = glm::dot(n, b - x);
-        if (da >= 0.0) clipped[nc++] = a;
-        if ((da >= 0.0) != (db >= 0.0) && nc < kMaxVerts) clipped[nc++] = a + (b - a) * (da / (da - db));
-    }
+    const int nc = clip_to_front(x, n, v, count, &clipped);
     if (nc < 3) return 0.0;
 
     std::array<Vec3, kMaxVerts> w;
@@ -94,43 +143,8 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
     // (1) polygon edges inside the cap.
     for (int k = 0; k < nc; ++k)
         blocked += arc_inside_cap(w[k], w[(k + 1) % nc], gamma[k], d, cos_a) * glm::dot(n, u[k]);
-    // (2) arcs of the cap's circle inside the polygon: w(t) = cos_a d + sin_a (cos t e1 + sin t e2).
-    const Vec3 e1 =
-        unit_or_zero(std::abs(d.x) < 0.9 ? glm::cross(d, Vec3(1, 0, 0)) : glm::cross(d, Vec3(0, 1, 0)));
-    const Vec3 e2 = glm::cross(d, e1);
-    std::array<double, 2 * kMaxVerts + 2> cuts{};
-    int ncuts = 0;
-    std::array<Vec3, kMaxVerts> mk;
-    for (int k = 0; k < nc; ++k) {
-        mk[k] = glm::cross(w[k], w[(k + 1) % nc]);
-        const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
-        const double amp = std::sqrt(b1 * b1 + b2 * b2);
-        if (amp * sin_a <= std::abs(a0) * cos_a)
-            continue;  // the circle does not cross this edge's great circle
-        const double tk = std::atan2(b2, b1),
-                     beta = std::acos(std::clamp(-cos_a * a0 / (sin_a * amp), -1.0, 1.0));
-        for (double t : {tk - beta, tk + beta}) {
-            t = std::fmod(t, 2 * kPi);
-            if (t < 0) t += 2 * kPi;
-            cuts[ncuts++] = t;
-        }
-    }
-    cuts[ncuts++] = 0.0;
-    cuts[ncuts++] = 2 * kPi;
-    std::sort(cuts.begin(), cuts.begin() + ncuts);
-    for (int c = 0; c + 1 < ncuts; ++c) {
-        const double t1 = cuts[c], t2 = cuts[c + 1];
-        if (t2 - t1 <= 0.0) continue;
-        const double tm = 0.5 * (t1 + t2);
-        const Vec3 wm = cos_a * d + sin_a * (std::cos(tm) * e1 + std::sin(tm) * e2);
-        bool inside = true;
-        for (int k = 0; k < nc && inside; ++k) inside = glm::dot(wm, mk[k]) >= 0.0;
-        if (!inside) continue;
-        const Vec3 integral =
-            cos_a * sin_a * ((std::cos(t2) - std::cos(t1)) * e2 - (std::sin(t2) - std::sin(t1)) * e1) +
-            sin_a * sin_a * (t2 - t1) * d;
-        blocked += glm::dot(n, integral);
-    }
+    // (2) arcs of the cap's circle inside the polygon.
+    blocked = add_cap_circle_inside(blocked, w, nc, n, d, sin_a, cos_a);
     return std::max(0.0, (whole - blocked) / (2.0 * kPi));
 }
 

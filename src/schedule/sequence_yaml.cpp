@@ -1,4 +1,6 @@
 // Reads sequence files. The format is documented in README.md ("Sequence files").
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -192,9 +194,9 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
     const double frames = std::round(duration * seq.fps);
     if (frames > kMaxFrames) {
         // The count can be far beyond any integer type (a time of 1e60 s): print it as a double.
-        char count[32];
-        std::snprintf(count, sizeof count, frames < 1e15 ? "%.0f" : "%.3g", frames);
-        throw Error(top.loc(), std::string("the sequence has ") + count + " frames; the limit is " +
+        const std::string count =
+            frames < 1e15 ? fmt::format("{:.0f}", frames) : fmt::format("{:.3g}", frames);
+        throw Error(top.loc(), "the sequence has " + count + " frames; the limit is " +
                                    std::to_string(kMaxFrames) + " (lower fps or duration_s)");
     }
     seq.frames = std::max(1, static_cast<int>(frames));

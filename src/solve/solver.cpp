@@ -1,5 +1,7 @@
 #include "solve/solver.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -289,15 +291,14 @@ std::string check_steady_state(const RadiositySolver& solver, const std::vector<
                         std::to_string(s.spectral_lo) +
                         " >= 1 (reflectances too high for the form factors; lower them)");
         if (s.spectral_hi >= 0.999 - 1e-9 && warning.empty()) {
-            char buf[320];
-            std::snprintf(
-                buf, sizeof buf,
-                "%s: nearly singular radiosity system in the %s channel: spectral radius of rho F in [%.6f, "
-                "%.6f], condition estimate %.1e; solved by partial-pivoting LU, expect relative error up to "
-                "~%.0e",
-                scene_file.c_str(), names[c], s.spectral_lo, s.spectral_hi, s.condition,
+            warning = fmt::format(
+                "{}: nearly singular radiosity system in the {} channel: spectral radius of rho F in "
+                "[{:.6f}, "
+                "{:.6f}], condition estimate {:.1e}; solved by partial-pivoting LU, expect relative error up "
+                "to "
+                "~{:.0e}",
+                scene_file, names[c], s.spectral_lo, s.spectral_hi, s.condition,
                 std::max(1e-16, s.condition * 1e-16));
-            warning = buf;
         }
     }
     return warning;

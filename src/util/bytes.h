@@ -13,6 +13,7 @@ namespace radiosa {
 
 class ByteWriter {
 public:
+    ByteWriter() { m_bytes.reserve(256); }
     void u8(std::uint8_t v) { m_bytes.push_back(v); }
     void u32(std::uint32_t v) { put(v, 4); }
     void u64(std::uint64_t v) { put(v, 8); }
