@@ -1,7 +1,8 @@
 // Stage benchmarks (Google Benchmark) on the 1991 paper's scene: form factors with and without
 // culling, the solve (factorisation, a new lighting by substitution, the paper's Gauss-Jordan),
 // one rendered frame, and loading the cached matrix. Results and the machine they ran on are
-// kept in docs/bench.md; compare figures as ratios within one run (2-core machines are noisy).
+// kept in docs/generated/bench.md (tools/regen-docs bench); compare figures as ratios within one run (2-core
+// machines are noisy).
 //
 //   build/radiosa_bench                       # everything
 //   build/radiosa_bench --benchmark_filter=FormFactors
@@ -56,7 +57,7 @@ void FormFactors_Seed(benchmark::State& state) {
     state.SetLabel(std::string(adaptive ? "adaptive 1e-6" : "gauss p=6") +
                    (o.culling ? ", culling" : ", no culling"));
 }
-// Error control without culling takes ~25 s per run (README, "Leaving out"): one iteration.
+// Error control without culling takes ~25 s per run (docs/benchmarks.md): one iteration.
 BENCHMARK(FormFactors_Seed)->Args({0, 1})->Args({0, 0})->Args({1, 1})->Unit(benchmark::kMillisecond);
 BENCHMARK(FormFactors_Seed)->Args({1, 0})->Iterations(1)->Unit(benchmark::kMillisecond);
 

@@ -1,4 +1,4 @@
-// Every kind of bad scene file named in the README's table: exit code 1, one line on stderr
+// Every kind of bad scene file named in docs/stability.md's table: exit code 1, one line on stderr
 // with the file, line, column and the fix, and nothing written.
 #include <gtest/gtest.h>
 
@@ -36,6 +36,10 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
              171),
          "@:7:5: unknown key 'emision' in surface #1 (allowed: name, type, corners | origin + edge_s + "
          "edge_t, patches, reflectance, emission, patch_emission)"},
+        {"unknown surface type",
+         std::string(
+             "surfaces:\n  - name: a\n    type: cone\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+         "@:3:11: unknown surface type 'cone' (known: quad, sphere)"},
         {"wrong type",
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: many\n    reflectance: [0.5, 0.5, 0.5]\n",

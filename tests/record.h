@@ -1,5 +1,5 @@
 #pragma once
-// A measured figure in the test report (ctest / --gtest_output), where the README's tables
+// A measured figure in the test report (ctest / --gtest_output), where docs/stability.md's table
 // come from: test::record("rel_error", 3.2e-7) shows as rel_error="3.200e-07".
 #include <gtest/gtest.h>
 

@@ -14,7 +14,8 @@ struct AccuracyJob {
     int threads = 0;
 };
 
-// Runs the study, writes accuracy.csv, accuracy.md and accuracy.png into out_dir, prints a summary.
+// Runs the study, writes accuracy.csv and accuracy.md into out_dir (tools/plot-accuracy plots the CSV),
+// prints a summary.
 void run_accuracy(const AccuracyJob& job, std::ostream& out);
 
 }  // namespace radiosa

@@ -1,5 +1,6 @@
 #include "app/cli.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,7 @@
 #include "app/sequence_job.h"
 #include "app/still.h"
 #include "encode/features.h"
+#include "surfaces/registry.h"
 #include "util/error.h"
 
 namespace radiosa {
@@ -125,6 +127,15 @@ std::string default_output(const StillJob& job) {
     return (fs::path("out") / (fs::path(job.scene_path).stem().string() + "-" +
                                fs::path(job.camera_path).stem().string() + ".png"))
         .string();
+}
+
+// The versions every document refers to, from the one place each is defined.
+std::string version_text() {
+    return fmt::format(
+        "radiosa {}; form-factor algorithm version {}, cache file format {}; surface types: {}; video and "
+        "palette outputs (libav): {}",
+        RADIOSA_VERSION, kFormFactorAlgorithmVersion, kCacheFormatVersion, surface_type_names(),
+        kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF");
 }
 
 // Every subcommand with the job its options fill.
@@ -265,9 +276,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     CLI::App app{"radiosa: radiosity for curved parametric surfaces (parametric differential method)",
                  "radiosa"};
     app.require_subcommand(0, 1);
-    app.set_version_flag("--version",
-                         std::string("radiosa " RADIOSA_VERSION "; video and palette outputs (libav): ") +
-                             (kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF"));
+    app.set_version_flag("--version", version_text());
     const WarningSink warn = [&err](const std::string& w) { err << "warning: " << w << "\n"; };
     Commands c;
     c.still.warn = c.formfactors_job.warn = warn;

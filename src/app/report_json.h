@@ -21,8 +21,7 @@ struct SharedSolves {
     int channel_solves = 0, channel_solves_possible = 0;  // run, and one per channel and distinct state
     bool skipped = false;
 };
-// "left_out": what the run proved it did not need to do, counted (README, "Leaving out what a
-// scene does not need").
+// "left_out": what the run proved it did not need to do, counted (docs/cli.md, "Run report").
 nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s,
                              const SharedSolves& solves);
 // Adds form_factor_method ("adaptive" | "gauss"), form_factor_tolerance and gauss_points (the

@@ -1,4 +1,4 @@
-// Reads and validates scene files. The format is documented in README.md ("Scene files").
+// Reads and validates scene files. The format is documented in docs/scene-format.md.
 #include <cmath>
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 #pragma once
 // An animation sequence (cameras/*.yaml with a `camera: {keys: ...}` timeline): a frame rate,
 // camera keys with holds and cuts, and light/colour events. Plain data plus its evaluation
-// at a time; the format is documented in README.md ("Sequence files").
+// at a time; the format is documented in docs/sequences.md.
 #include <optional>
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// Reads sequence files. The format is documented in README.md ("Sequence files").
+// Reads sequence files. The format is documented in docs/sequences.md.
 #include <fmt/format.h>
 
 #include <algorithm>
