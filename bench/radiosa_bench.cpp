@@ -106,13 +106,15 @@ void Render_Seed(benchmark::State& state) {
 }
 BENCHMARK(Render_Seed)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Loading the cached matrix (with every check: checksum, key, patch table, finite entries).
+// Loading the cached matrix (with every check: sizes, checksum, key, patch table, sense checks).
 void CacheLoad_Seed(benchmark::State& state) {
     const Seed& s = seed();
     const auto path = std::filesystem::temp_directory_path() / "radiosa_bench_seed.rff";
-    const CacheKey key = form_factor_key(s.scene, FormFactorOptions::adaptive(kDefaultFormFactorTolerance));
-    write_cache_file(path, key, s.scene.name, s.geometry, s.ff);
-    for (auto _ : state) benchmark::DoNotOptimize(read_cache_file(path, key, &s.geometry).F.data.data());
+    const FormFactorOptions o = FormFactorOptions::adaptive(kDefaultFormFactorTolerance);
+    const CacheKey key = form_factor_key(s.scene, o);
+    write_cache_file(path, key, s.scene.name, s.scene.closed, s.geometry, s.ff);
+    const CacheExpectation expect{key, &s.geometry, o, s.scene.closed};
+    for (auto _ : state) benchmark::DoNotOptimize(read_cache_file(path, expect).F.data.data());
     state.counters["bytes"] = static_cast<double>(std::filesystem::file_size(path));
     std::filesystem::remove(path);
 }

@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "cache/cache_file.h"
+#include "util/error.h"
+#include "util/text.h"
 
 namespace radiosa {
 
@@ -20,8 +22,8 @@ namespace {
 
 enum class Kind { Matrix, Leftover, Other };
 
-// "<32 hex>.rff" is a cache file; "<32 hex>.tmp<pid>.rff" a temporary left by a killed run;
-// "<32 hex>.lock" a lock file.
+// "<32 hex>.rff" is a cache file; "<32 hex>.tmp<pid>-<8 hex>.rff" a temporary left by a killed
+// run; "<32 hex>.lock" a lock file.
 Kind classify(const fs::path& p) {
     const std::string name = p.filename().string();
     auto all_of = [](std::string_view s, auto pred) {
@@ -33,18 +35,34 @@ Kind classify(const fs::path& p) {
     if (rest == ".rff") return Kind::Matrix;
     if (rest == ".lock") return Kind::Leftover;
     if (rest.starts_with(".tmp") && rest.ends_with(".rff") && rest.size() > 8 &&
-        all_of(rest.substr(4, rest.size() - 8), [](unsigned char c) { return std::isdigit(c) != 0; }))
+        all_of(rest.substr(4, rest.size() - 8),
+               [&](unsigned char c) { return std::isdigit(c) != 0 || c == '-' || hex(c); }))
         return Kind::Leftover;
     return Kind::Other;
 }
 
+// The cache directory must be one: a path that exists and is not a directory is an Error.
+void check_cache_dir(const fs::path& dir) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(dir, ec);
+    if (fs::exists(st) && !fs::is_directory(st))
+        throw Error(printable(dir.string()) +
+                    ": the cache path is not a directory (give --cache-dir a directory)");
+}
+
+// Entries of `kind` by name, whatever their file type (never following a link).
 std::vector<fs::path> entries(const fs::path& dir, Kind kind) {
     std::vector<fs::path> v;
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(dir, ec))
-        if (e.is_regular_file() && classify(e.path()) == kind) v.push_back(e.path());
+        if (classify(e.path()) == kind) v.push_back(e.path());
     std::sort(v.begin(), v.end());
     return v;
+}
+
+bool is_regular(const fs::path& p) {
+    std::error_code ec;
+    return fs::symlink_status(p, ec).type() == fs::file_type::regular;
 }
 
 std::string human_size(std::uintmax_t b) {
@@ -67,39 +85,43 @@ std::string human_age(const fs::path& p) {
 }  // namespace
 
 void cache_list(const fs::path& dir, std::ostream& out) {
+    check_cache_dir(dir);
     const auto files = entries(dir, Kind::Matrix);
-    out << "cache " << dir.string() << ": " << files.size() << " matrix file(s)\n";
+    out << "cache " << printable(dir.string()) << ": " << files.size() << " matrix file(s)\n";
     if (files.empty()) return;
     out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", "key", "scene", "patches", "size", "age");
     for (const auto& f : files) {
         std::error_code ec;
-        const std::string size = human_size(fs::file_size(f, ec));
+        const std::string size = is_regular(f) ? human_size(fs::file_size(f, ec)) : "-";
         try {
             const CacheFileInfo info = read_cache_info(f);
-            out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", f.stem().string(), info.scene_name,
-                               info.patches, size, human_age(f));
+            out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", f.stem().string(),
+                               printable(info.scene_name), info.patches, size, human_age(f));
         } catch (const CacheFileError& e) {
-            out << fmt::format("{:<32}  unreadable: {}\n", f.stem().string(), e.what());
+            out << fmt::format("{:<32}  unreadable: {}\n", f.stem().string(), printable(e.what()));
         }
     }
 }
 
 bool cache_verify(const fs::path& dir, std::ostream& out) {
+    check_cache_dir(dir);
     const auto files = entries(dir, Kind::Matrix);
     int bad = 0;
     for (const auto& f : files) {
+        const std::string name = printable(f.string());
         try {
-            CacheFileInfo info;
-            read_cache_file(f, std::nullopt, nullptr, &info);
+            const CacheFileInfo info = verify_cache_file(f);
             if (info.key.hex() != f.stem().string())
                 throw CacheFileError("holds key " + info.key.hex() + ", which does not match its file name");
-            out << "ok   " << f.string() << " (" << info.scene_name << ", " << info.patches << " patches, "
-                << info.layout << (info.compression == "zstd" ? ", zstd" : "") << ")\n";
+            out << "ok   " << name << " (" << printable(info.scene_name) << ", " << info.patches
+                << " patches, " << info.layout << (info.compression == "zstd" ? ", zstd" : "") << ")\n";
         } catch (const CacheFileError& e) {
             ++bad;
-            out << "BAD  " << f.string() << ": " << e.what() << "\n";
+            out << "BAD  " << name << ": " << printable(e.what()) << "\n";
         }
     }
+    for (const auto& f : entries(dir, Kind::Other))
+        out << "skip " << printable(f.string()) << ": not a cache file name (not checked)\n";
     const auto leftovers = entries(dir, Kind::Leftover);
     out << files.size() << " file(s) checked, " << bad << " bad";
     if (!leftovers.empty())
@@ -109,6 +131,7 @@ bool cache_verify(const fs::path& dir, std::ostream& out) {
 }
 
 void cache_clear(const fs::path& dir, std::ostream& out) {
+    check_cache_dir(dir);
     std::uintmax_t bytes = 0;
     int count = 0;
     for (Kind k : {Kind::Matrix, Kind::Leftover})
@@ -120,7 +143,8 @@ void cache_clear(const fs::path& dir, std::ostream& out) {
                 bytes += ec ? 0 : size;
             }
         }
-    out << "removed " << count << " file(s), " << human_size(bytes) << ", from " << dir.string() << "\n";
+    out << "removed " << count << " file(s), " << human_size(bytes) << ", from " << printable(dir.string())
+        << "\n";
 }
 
 }  // namespace radiosa

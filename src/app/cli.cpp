@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
+#include <new>
 
 #include "app/accuracy_cmd.h"
 #include "app/cache_cmd.h"
@@ -304,8 +305,15 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     } catch (const Error& e) {
         err << "error: " << e.what() << "\n";
         return 1;
+    } catch (const std::bad_alloc&) {
+        err << "error: out of memory (the scene needs more than this machine or its limits allow; use fewer "
+               "patches)\n";
+        return 2;
     } catch (const std::exception& e) {
         err << "error: internal failure: " << e.what() << "\n";
+        return 2;
+    } catch (...) {
+        err << "error: internal failure: an unknown exception\n";
         return 2;
     }
 }

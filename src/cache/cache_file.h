@@ -1,18 +1,20 @@
 #pragma once
-// The on-disk form-factor matrix: its key, its file format, and the compute-or-load policy.
+// The on-disk form-factor matrix: its key, its file format, the checks every load makes, and
+// the compute-or-load policy (docs/cache.md).
 //
 // A cache file is named <key>.rff, where the key is a 128-bit XXH3 hash of the canonical bytes
 // of exactly what determines the matrix (see form_factor_key). Layout, all little-endian:
 //
 //   header   magic "RADFF\r\n\x1a", u32 format version, u32 algorithm version, 16-byte key,
-//            str scene name (u32 length + UTF-8), u64 patch count, u64 surface count,
+//            str scene name (u32 length <= 4096 + UTF-8), u64 patch count, u64 surface count,
 //            u32 element type (1 = float64), u32 matrix layout (0 dense, 1 CSR),
-//            u32 compression (0 none, 1 zstd), u32 flags (bit 0: error estimates present),
+//            u32 compression (0 none, 1 zstd), u32 flags (bit 0: error estimates present,
+//            bit 1: visibility tested, bit 2: the scene is closed), u32 method (0 fixed Gauss
+//            rule, 1 adaptive), u32 gauss points, f64 tolerance,
 //            u64 stored size of the matrix section, u64 its uncompressed size
 //   table    per surface: str name, u32 ns, u32 nt
 //            per patch:   u32 surface, u32 is, u32 it, f64 area
-//            u32 gauss points (0 when error-controlled), f64 tolerance (0 for the fixed rule),
-//            11 x i64: the statistics of the computation (FormFactorStats, in declaration order)
+//            the FormFactorStats counters as i64, in for_each_counter order
 //            (no timings: equal inputs give byte-identical files)
 //   matrix   dense: N*N f64 row-major; CSR: (N+1) u64 row starts, nnz u32 columns, nnz f64 values;
 //            then, when flagged, N*N f64 error estimates; zstd-compressed as a whole when flagged
@@ -21,6 +23,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
+#include <stdexcept>
 #include <string>
 
 #include "formfactor/form_factor.h"
@@ -31,7 +35,7 @@ namespace radiosa {
 struct Scene;
 class SceneGeometry;
 
-inline constexpr std::uint32_t kCacheFormatVersion = 3;
+inline constexpr std::uint32_t kCacheFormatVersion = 4;
 
 struct CacheKey {
     std::array<std::uint8_t, 16> bytes{};
@@ -39,12 +43,12 @@ struct CacheKey {
     bool operator==(const CacheKey&) const = default;
 };
 
-// Hash of each surface's type, geometry and subdivision (in scene order), the quadrature and
-// visibility settings, the element precision and kFormFactorAlgorithmVersion. Names,
-// reflectance, emission, camera, image and thread settings are deliberately left out.
+// Hash of each surface's type and key bytes (in scene order) and subdivision, the form-factor
+// method and its settings, visibility, the element precision and kFormFactorAlgorithmVersion.
+// Names, reflectance, emission, camera, image and thread settings are deliberately left out.
 CacheKey form_factor_key(const Scene& scene, const FormFactorOptions& options);
 
-// What a cache file says about itself without reading the matrix.
+// What a cache file says about itself in its header.
 struct CacheFileInfo {
     std::uint32_t format_version = 0;
     std::uint32_t algorithm_version = 0;
@@ -55,6 +59,8 @@ struct CacheFileInfo {
     std::string layout;       // "dense" or "csr"
     std::string compression;  // "none" or "zstd"
     bool has_error_estimates = false;
+    FormFactorOptions options;  // method, tolerance or gauss points, visibility
+    bool closed = false;
 };
 
 // A cache file that cannot be used; what() is the reason, one line.
@@ -62,26 +68,49 @@ struct CacheFileError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-// Writes atomically (temporary name, then rename). Throws Error when it cannot be written.
-// Chooses the smaller of the dense and CSR layouts, and compresses with zstd when that
-// saves at least a quarter of the bytes.
-void write_cache_file(const std::filesystem::path& path, const CacheKey& key, const std::string& scene_name,
-                      const SceneGeometry& geometry, const FormFactors& ff);
+// What a file must be to serve a scene and a request: its key, patch table, method, settings
+// and closedness; the scene fixes the largest matrix a load may allocate.
+struct CacheExpectation {
+    CacheKey key;
+    const SceneGeometry* geometry = nullptr;
+    FormFactorOptions options;
+    bool closed = false;
+};
 
-// Header only. Throws CacheFileError.
+// Writes atomically (exclusive temporary, then rename). Throws Error when it cannot be written.
+// Chooses the smaller of the dense and CSR layouts, and compresses with zstd when that saves at
+// least a quarter of the bytes.
+void write_cache_file(const std::filesystem::path& path, const CacheKey& key, const std::string& scene_name,
+                      bool closed, const SceneGeometry& geometry, const FormFactors& ff);
+
+// Header only (`cache list`). Throws CacheFileError.
 CacheFileInfo read_cache_info(const std::filesystem::path& path);
 
-// Reads and checks everything: magic, versions, checksum, sizes, and finite non-negative
-// entries; with `expected_key`, the key; with `geometry`, that the patch table matches it
-// (surface order, subdivision, patch indices and areas). Throws CacheFileError.
-FormFactors read_cache_file(const std::filesystem::path& path, const std::optional<CacheKey>& expected_key,
-                            const SceneGeometry* geometry, CacheFileInfo* info = nullptr);
+// Reads and checks a file for this scene and request: a regular file only (never a FIFO, device,
+// directory or link), the header before anything else, every size against the file's and the
+// scene's before allocating, the checksum, the key, the patch table, then the sense checks of
+// check_cache_matrix. Throws CacheFileError.
+FormFactors read_cache_file(const std::filesystem::path& path, const CacheExpectation& expect,
+                            CacheFileInfo* info = nullptr);
+FormFactors read_cache_bytes(std::span<const std::uint8_t> bytes, const CacheExpectation& expect,
+                             CacheFileInfo* info = nullptr);
+
+// `cache verify`: every check that needs no scene (all but the patch table against a scene and
+// reciprocity), streaming the file in bounded memory whatever it claims. Throws CacheFileError.
+CacheFileInfo verify_cache_file(const std::filesystem::path& path);
+CacheFileInfo verify_cache_bytes(std::span<const std::uint8_t> bytes);
+
+// The sense checks a loaded matrix must pass (docs/cache.md, "Checks on every load"); throws
+// CacheFileError naming the first that fails. Also run on every freshly computed matrix before
+// it is stored, so that a file this build wrote always loads.
+void check_cache_matrix(const FormFactors& ff, const FormFactorOptions& options, bool closed);
 
 // ---- the policy: where the cache lives and how a run uses it ----
 
 struct CacheSettings {
     bool enabled = true;
-    std::filesystem::path dir;  // empty: default_cache_dir()
+    std::filesystem::path dir;      // empty: default_cache_dir()
+    double lock_timeout_s = 600.0;  // give up waiting for another process's lock after this long
 };
 
 // $RADIOSA_CACHE_DIR if set and not empty, else "out/cache".
@@ -103,9 +132,10 @@ struct CacheOutcome {
 };
 
 // Loads the matrix for this scene and these options from the cache, or computes it and stores
-// it. Damaged, stale or foreign files are reported through `warn` (one line each) and rebuilt;
-// an unwritable cache is reported and the run goes on. Concurrent processes computing the same
-// key serialise on a lock file, so the matrix is computed once and the file written once.
+// it. Damaged, stale, foreign or implausible files, and special files in their place, are
+// reported through `warn` (one line each) and rebuilt; an unwritable cache is reported and the
+// run goes on. Concurrent processes computing the same key serialise on a lock file, so the
+// matrix is computed once; a lock held longer than settings.lock_timeout_s is an Error.
 FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
                                 const FormFactorOptions& options, const CacheSettings& settings,
                                 const WarningSink& warn, CacheOutcome* outcome);

@@ -106,18 +106,19 @@ TEST(CacheFile, RoundTripIsBitExactInBothLayouts) {
     const fs::path d = fresh_dir("radiosa_cache_roundtrip");
     for (const Scene& scene : {load_scene(kSeed), plates()}) {
         const SceneGeometry g(scene);
-        FormFactors ff = compute_form_factors(g, opts());
-        ff.error.assign(ff.F.data.size(), 1e-9);  // estimates travel with the matrix
-        const CacheKey key = form_factor_key(scene, opts());
+        const FormFactorOptions o = FormFactorOptions::adaptive(1e-6);
+        const FormFactors ff = compute_form_factors(g, o);  // estimates travel with the matrix
+        const CacheKey key = form_factor_key(scene, o);
         const fs::path file = d / (key.hex() + ".rff");
-        write_cache_file(file, key, scene.name, g, ff);
+        write_cache_file(file, key, scene.name, scene.closed, g, ff);
         CacheFileInfo info;
-        const FormFactors back = read_cache_file(file, key, &g, &info);
+        const FormFactors back = read_cache_file(file, {key, &g, o, scene.closed}, &info);
         EXPECT_EQ(back.F.data, ff.F.data);
         EXPECT_EQ(back.area, ff.area);
         EXPECT_EQ(back.error, ff.error);
-        EXPECT_EQ(back.options.method, FormFactorMethod::Fixed);
-        EXPECT_EQ(back.options.gauss_points, 6);
+        EXPECT_EQ(back.options.method, FormFactorMethod::Adaptive);
+        EXPECT_EQ(back.options.tolerance, 1e-6);
+        EXPECT_EQ(info.closed, scene.closed);
         EXPECT_EQ(back.stats.segment_tests, ff.stats.segment_tests);
         EXPECT_EQ(info.patches, static_cast<std::uint64_t>(g.patch_count()));
         EXPECT_EQ(read_cache_info(file).key, key);
@@ -170,7 +171,8 @@ TEST(CacheObtain, DamagedFilesAreDetectedAndRebuilt) {
     {
         const Scene p = plates();
         const SceneGeometry g(p);
-        write_cache_file(forged, form_factor_key(scene, opts()), p.name, g, compute_form_factors(g, opts()));
+        write_cache_file(forged, form_factor_key(scene, opts()), p.name, true, g,
+                         compute_form_factors(g, opts()));
     }
     const std::vector<std::uint8_t> wrong_table = slurp(forged);
     fs::remove(forged);
@@ -187,10 +189,10 @@ TEST(CacheObtain, DamagedFilesAreDetectedAndRebuilt) {
         return b;
     };
     cases.push_back({"byte flipped in the matrix", flipped(pristine.size() - 100), "checksum mismatch"});
-    cases.push_back({"byte flipped in the key", flipped(20), "checksum mismatch"});
+    cases.push_back({"byte flipped in the key", flipped(20), "not this scene's"});
     cases.push_back({"byte flipped in the checksum", flipped(pristine.size() - 1), "checksum mismatch"});
     cases.push_back(
-        {"truncated to half", {pristine.begin(), pristine.begin() + pristine.size() / 2}, "checksum"});
+        {"truncated to half", {pristine.begin(), pristine.begin() + pristine.size() / 2}, "truncated"});
     cases.push_back({"last byte missing", {pristine.begin(), pristine.end() - 1}, "checksum"});
     cases.push_back({"truncated in the header", {pristine.begin(), pristine.begin() + 30}, "truncated"});
     cases.push_back({"empty", {}, "truncated"});

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "../tests/test_scenes.h"
+#include "cache/cache_file.h"
 #include "formfactor/analytic.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
@@ -18,8 +19,13 @@ using test::scene_of;
 
 namespace {
 
+// Every matrix computed here must also pass the cache's sense checks: a matrix this build
+// computes and stores must load again, or every run would recompute it.
 FormFactors adaptive(const Scene& scene, double tol, bool visibility = true) {
-    return compute_form_factors(SceneGeometry(scene), FormFactorOptions::adaptive(tol, visibility));
+    const FormFactorOptions o = FormFactorOptions::adaptive(tol, visibility);
+    FormFactors ff = compute_form_factors(SceneGeometry(scene), o);
+    EXPECT_NO_THROW(check_cache_matrix(ff, o, scene.closed)) << "tolerance " << tol;
+    return ff;
 }
 
 double err_of(const FormFactors& ff, int i, int j) {

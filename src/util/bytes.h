@@ -55,6 +55,12 @@ public:
     std::uint8_t u8() { return static_cast<std::uint8_t>(get(1)); }
     std::uint32_t u32() { return static_cast<std::uint32_t>(get(4)); }
     std::uint64_t u64() { return get(8); }
+    // The next u32 without consuming it (a length to check before reading what it counts).
+    std::uint32_t peek_u32() {
+        const std::uint32_t v = u32();
+        m_pos -= 4;
+        return v;
+    }
     std::int64_t i64() { return static_cast<std::int64_t>(get(8)); }
     double f64() { return std::bit_cast<double>(get(8)); }
     std::string str() {
@@ -70,6 +76,7 @@ public:
     }
     void f64_array(double* out, std::size_t n) {
         if (n > (m_size - m_pos) / 8) throw Truncated();
+        if (n == 0) return;  // memcpy from or to a null pointer is undefined, even for 0 bytes
         if constexpr (std::endian::native == std::endian::little)
             std::memcpy(out, take(n * 8), n * 8);
         else

@@ -18,7 +18,7 @@ const radiosa::Scene& seed() {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const radiosa::SceneGeometry geometry(seed());
-    static const radiosa::Materials base = radiosa::patch_materials(seed(), geometry);
+    static const radiosa::Materials base = radiosa::patch_materials(seed());
     const std::string text(reinterpret_cast<const char*>(data), size);
     try {
         const radiosa::Sequence seq = radiosa::parse_sequence(text, "fuzz.yaml", &seed());

@@ -1,0 +1,243 @@
+// The compute-or-load policy: where the cache lives, the lock that serialises runs of one key,
+// and what a run does with a file it cannot use.
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <thread>
+
+#include "cache/cache_file.h"
+#include "scene/scene.h"
+#include "util/error.h"
+#include "util/stopwatch.h"
+
+namespace radiosa {
+
+namespace fs = std::filesystem;
+
+fs::path default_cache_dir() {
+    const char* env = std::getenv("RADIOSA_CACHE_DIR");
+    if (env && *env) return fs::path(env);
+    return fs::path("out") / "cache";
+}
+
+const char* cache_status_name(CacheStatus s) {
+    switch (s) {
+        case CacheStatus::Off:
+            return "off";
+        case CacheStatus::Hit:
+            return "hit";
+        case CacheStatus::Miss:
+            return "miss";
+        case CacheStatus::Rebuilt:
+            return "rebuilt";
+    }
+    return "?";
+}
+
+namespace {
+
+// An exclusive advisory lock on "<key>.lock" for as long as it lives, so that concurrent runs
+// of one scene compute its matrix once: the others wait, then load the file. The holder writes
+// its process id into the file; a waiter says after a second who it is waiting for, and gives
+// up with an Error after the timeout (a stopped or hung holder). The lock file is opened
+// without following links and removed on release. Correctness never depends on the lock:
+// files appear only by atomic rename and are fully checked on load, so when the lock cannot be
+// had (unwritable directory, a link or special file in its place) concurrent runs merely
+// compute twice.
+class KeyLock {
+public:
+    KeyLock(fs::path path, double timeout_s, const WarningSink& warn) : m_path(std::move(path)) {
+        m_fd = ::open(m_path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
+        struct stat st {};
+        if (m_fd >= 0 && (::fstat(m_fd, &st) != 0 || !S_ISREG(st.st_mode))) release_fd();
+        if (m_fd < 0) {
+            warn("cannot use the lock file " + m_path.string() + " (" +
+                 (errno == ELOOP ? std::string("a symbolic link")
+                                 : std::string("not a regular file or ") + std::strerror(errno)) +
+                 "); going on without it");
+            return;
+        }
+        wait(timeout_s, warn);
+        const std::string pid = std::to_string(::getpid()) + "\n";
+        if (::ftruncate(m_fd, 0) != 0 ||
+            ::pwrite(m_fd, pid.data(), pid.size(), 0) < 0) { /* informative only */
+        }
+    }
+    ~KeyLock() {
+        if (m_fd < 0) return;
+        ::unlink(m_path.c_str());
+        release_fd();  // closing releases the lock
+    }
+    KeyLock(const KeyLock&) = delete;
+    KeyLock& operator=(const KeyLock&) = delete;
+
+private:
+    void release_fd() {
+        ::close(m_fd);
+        m_fd = -1;
+    }
+    std::string holder() const {
+        char buf[32] = {0};
+        const ssize_t n = ::pread(m_fd, buf, sizeof buf - 1, 0);
+        const long pid = n > 0 ? std::strtol(buf, nullptr, 10) : 0;
+        return pid > 0 ? "process " + std::to_string(pid) : "another process";
+    }
+    void wait(double timeout_s, const WarningSink& warn) {
+        const Stopwatch clock;
+        bool announced = false;
+        while (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
+            if (errno != EWOULDBLOCK && errno != EINTR) {
+                release_fd();
+                return;
+            }
+            const double waited = clock.seconds();
+            if (waited >= timeout_s) {
+                const std::string who = holder();
+                release_fd();
+                throw Error(
+                    fmt::format("{}: gave up after {:.0f} s waiting for {} computing the same form factors "
+                                "(it may be stopped "
+                                "or hung); stop it, raise --lock-timeout, or run with --no-cache",
+                                m_path.string(), waited, who));
+            }
+            if (waited >= 1.0 && !announced) {
+                warn(fmt::format(
+                    "{}: waiting for {} computing the same form factors (giving up after {:.0f} s)",
+                    m_path.string(), holder(), timeout_s));
+                announced = true;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+    }
+
+    fs::path m_path;
+    int m_fd = -1;
+};
+
+// One run's use of the cache for one matrix: what it loaded, computed and wrote, and why.
+class CacheRun {
+public:
+    CacheRun(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
+             const WarningSink& warn)
+        : m_scene(scene), m_geometry(geometry), m_options(options), m_warn(warn) {}
+
+    CacheOutcome o;
+
+    FormFactors compute() {
+        const Stopwatch clock;
+        FormFactors ff = compute_form_factors(m_geometry, m_options);
+        o.compute_s = clock.seconds();
+        return ff;
+    }
+    // The matrix when a file is there and passes every check; records why not otherwise.
+    std::optional<FormFactors> try_load(const fs::path& path, const CacheKey& key) {
+        const Stopwatch clock;
+        std::error_code ec;
+        if (fs::symlink_status(path, ec).type() == fs::file_type::not_found) return std::nullopt;
+        try {
+            FormFactors ff = read_cache_file(path, {key, &m_geometry, m_options, m_scene.closed});
+            o.load_s += clock.seconds();
+            return ff;
+        } catch (const CacheFileError& e) {
+            o.load_s += clock.seconds();
+            o.reason = e.what();
+            return std::nullopt;
+        }
+    }
+    // Computes the matrix and writes its file, unless the fresh matrix would not pass the load
+    // checks itself (a scene declared closed that is not): then it is not stored, with a warning.
+    // An unwritable cache is a warning, not an error.
+    FormFactors compute_and_store(const fs::path& path, const CacheKey& key) {
+        o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
+        FormFactors ff = compute();
+        const Stopwatch clock;
+        try {
+            check_cache_matrix(ff, m_options, m_scene.closed);
+            write_cache_file(path, key, m_scene.name, m_scene.closed, m_geometry, ff);
+            o.written = true;
+        } catch (const CacheFileError& e) {
+            m_warn(std::string("the computed form factors fail the cache's sense check (") + e.what() +
+                   "); they are used but not cached: is the scene really closed?");
+            if (o.reason.empty()) o.reason = std::string("not written: ") + e.what();
+        } catch (const Error& e) {
+            m_warn(std::string("cannot write the form-factor cache: ") + e.what() +
+                   "; the run goes on without it");
+            if (o.reason.empty()) o.reason = std::string("not written: ") + e.what();
+        }
+        o.write_s = clock.seconds();
+        return ff;
+    }
+    // Computes without storing: the cache directory cannot be made.
+    FormFactors compute_unstored(const fs::path& dir, const std::error_code& ec) {
+        o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
+        const std::string why = "cannot create cache directory " + dir.string() + ": " +
+                                (ec ? ec.message() : std::string("not a directory"));
+        m_warn(why + "; form factors are computed but not cached");
+        if (o.reason.empty()) o.reason = why;
+        return compute();
+    }
+
+private:
+    const Scene& m_scene;
+    const SceneGeometry& m_geometry;
+    const FormFactorOptions& m_options;
+    const WarningSink& m_warn;
+};
+
+FormFactors obtain(CacheRun& run, const Scene& scene, const FormFactorOptions& options,
+                   const CacheSettings& settings, const WarningSink& warn) {
+    if (!settings.enabled) return run.compute();
+    if (!options.culling) {
+        // A timing diagnostic: it must be computed to be timed, and in error-controlled mode
+        // (no closed form without the proofs) its matrix is less accurate: never stored.
+        run.o.reason = "--no-culling";
+        return run.compute();
+    }
+    const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
+    const CacheKey key = form_factor_key(scene, options);
+    const fs::path path = dir / (key.hex() + ".rff");
+    run.o.key = key.hex();
+    run.o.file = path.string();
+
+    if (auto ff = run.try_load(path, key)) {
+        run.o.status = CacheStatus::Hit;
+        return std::move(*ff);
+    }
+    if (!run.o.reason.empty()) warn("cache file " + path.string() + ": " + run.o.reason + "; recomputing it");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir, ec)) return run.compute_unstored(dir, ec);
+
+    const Stopwatch waited;
+    const KeyLock lock(dir / (key.hex() + ".lock"), settings.lock_timeout_s, warn);
+    run.o.wait_s = waited.seconds();
+    // Another process may have computed it while this one waited for the lock.
+    const std::string first_reason = run.o.reason;
+    if (auto ff = run.try_load(path, key)) {
+        run.o.status = CacheStatus::Hit;
+        run.o.reason.clear();
+        return std::move(*ff);
+    }
+    if (run.o.reason.empty()) run.o.reason = first_reason;
+    return run.compute_and_store(path, key);
+}
+
+}  // namespace
+
+FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
+                                const FormFactorOptions& options, const CacheSettings& settings,
+                                const WarningSink& warn, CacheOutcome* outcome) {
+    CacheRun run(scene, geometry, options, warn);
+    FormFactors ff = obtain(run, scene, options, settings, warn);
+    if (outcome) *outcome = run.o;
+    return ff;
+}
+
+}  // namespace radiosa
