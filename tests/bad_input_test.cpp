@@ -11,6 +11,11 @@ namespace radiosa {
 
 namespace fs = std::filesystem;
 
+// One valid quad, for cases that add a key or a block around it.
+const std::string kQuad =
+    "surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]\n"
+    "    patches: [1, 1]\n    reflectance: [0, 0, 0]\n";
+
 TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
     struct Case {
         const char* what;
@@ -36,6 +41,28 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
              171),
          "@:7:5: unknown key 'emision' in surface #1 (allowed: name, type, corners | origin + edge_s + "
          "edge_t, patches, reflectance, emission, patch_emission)"},
+        {"gauss_points out of range", std::string("form_factors:\n  gauss_points: 65\n") + kQuad,
+         "@:2:17: gauss_points must be between 1 and 64, got 65"},
+        {"gauss_points zero", std::string("form_factors:\n  gauss_points: 0\n") + kQuad,
+         "@:2:17: gauss_points must be between 1 and 64, got 0"},
+        {"tolerance too large", std::string("form_factors:\n  tolerance: 0.5\n") + kQuad,
+         "@:2:14: tolerance must be in [1e-12, 0.1], got 0.5"},
+        {"tolerance too small", std::string("form_factors:\n  tolerance: 1e-13\n") + kQuad,
+         "@:2:14: tolerance must be in [1e-12, 0.1], got 1e-13"},
+        {"facing",
+         std::string("surfaces:\n  - name: s\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+                     "    facing: sideways\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n"),
+         "@:6:13: facing must be 'outward' or 'inward', got 'sideways'"},
+        {"three corners",
+         std::string(
+             "surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0]]\n"
+             "    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+         "@:4:14: corners must be a list of 4 points [[x,y,z], ...]"},
+        {"patch_emission not a list", kQuad + "    patch_emission: 7\n",
+         "@:7:21: patch_emission must be a list of {patch: [i, j], emission: [r, g, b]}"},
+        {"patch_emission entry malformed",
+         kQuad + "    patch_emission:\n      - {patch: [0], emission: [1, 1, 1]}\n",
+         "@:8:17: patch must be a list of 2 integers [i, j] (0-based)"},
         {"unknown surface type",
          std::string(
              "surfaces:\n  - name: a\n    type: cone\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),

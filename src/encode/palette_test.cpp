@@ -42,6 +42,18 @@ TEST(Palette, FewColoursAreKeptExactly) {
     }
 }
 
+// A palette entry is its pixels' mean rounded to nearest: 10 and 13 in one histogram cell give
+// 12 (11.5 rounded), not 11.
+TEST(Palette, EntriesAreRoundedMeans) {
+    ColourHistogram h;
+    h.add({10, 10, 10, 13, 13, 13});
+    for (Quantiser q : {Quantiser::MedianCut, Quantiser::Popularity}) {
+        const std::vector<Colour8> p = h.palette(4, q);
+        ASSERT_EQ(p.size(), 1u);
+        EXPECT_EQ(p[0], (Colour8{12, 12, 12}));
+    }
+}
+
 TEST(Palette, MedianCutKeepsRareColoursThatPopularityDrops) {
     const auto rgb = test_frame(256, 64);
     ColourHistogram h;

@@ -140,12 +140,53 @@ TEST(FormFactor, OccluderBlocksAndVisibilityCanBeTurnedOff) {
     EXPECT_GT(fb.stats.segment_tests, 0);
 }
 
+// One thread and more threads than cores (8 on 2) give bit-identical matrices, for the fixed
+// rule and for error control.
 TEST(FormFactor, ResultDoesNotDependOnThreadCount) {
     const Scene scene = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
-    const FormFactors many = form_factors(scene, 4);
-    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-    const FormFactors single = form_factors(scene, 4);
-    EXPECT_EQ(many.F.data, single.F.data);
+    const SceneGeometry g(scene);
+    for (const FormFactorOptions& o : {FormFactorOptions::gauss(4), FormFactorOptions::adaptive(1e-5)}) {
+        auto with = [&](int threads) {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+            return compute_form_factors(g, o);
+        };
+        const FormFactors single = with(1), many = with(8);
+        EXPECT_EQ(many.F.data, single.F.data) << describe(o);
+        EXPECT_EQ(many.error, single.error) << describe(o);
+    }
+}
+
+// The checks on deliberately wrong matrices: rows above and below 1 count by their distance
+// from 1, reciprocity by the absolute difference in either order, estimates by their largest
+// entry and row.
+TEST(FormFactorChecks, WrongMatricesAreMeasuredNotExcused) {
+    FormFactors ff;
+    ff.F = DenseMatrix(3);
+    ff.area = {1.0, 2.0, 4.0};
+    // Row 0 sums to 0.9, row 1 to 1.2, row 2 to 1.0.
+    ff.F(0, 1) = 0.3, ff.F(0, 2) = 0.6;
+    ff.F(1, 0) = 0.5, ff.F(1, 2) = 0.7;
+    ff.F(2, 0) = 0.15, ff.F(2, 1) = 0.35, ff.F(2, 2) = 0.5;
+    ff.error = {0, 1e-3, 2e-3, 1e-3, 0, 5e-3, 1e-4, 1e-4, 0};
+    const FormFactorChecks c = check_form_factors(ff);
+    EXPECT_NEAR(c.closure_max_error, 0.2, 1e-15);
+    EXPECT_EQ(c.closure_worst_patch, 1);
+    // Pairs: (0,1): A0 F01 = 0.3, A1 F10 = 1.0; (0,2): 0.6 vs 0.6; (1,2): 1.4 vs 1.4.
+    EXPECT_NEAR(c.reciprocity_max_error, 0.7 / 1.0, 1e-15);
+    EXPECT_NEAR(c.reciprocity_abs_error, 0.7 / 1.0, 1e-15);
+    EXPECT_NEAR(c.reciprocity_vs_estimate, 0.7 / (1.0 * 1e-3 + 2.0 * 1e-3), 1e-9);
+    EXPECT_EQ(c.max_error_estimate, 5e-3);
+    EXPECT_NEAR(c.max_row_error_estimate, 6e-3, 1e-15);
+    // The same with the pair's directions swapped: the difference's sign does not matter.
+    std::swap(ff.F(0, 1), ff.F(1, 0));
+    ff.F(0, 2) = 0.4, ff.F(1, 2) = 1.0;  // rows 0.9 and 1.3
+    const FormFactorChecks d = check_form_factors(ff);
+    EXPECT_NEAR(d.closure_max_error, 0.3, 1e-15);
+    // (0,1): 0.5 vs 0.6, (0,2): 0.4 vs 0.6, (1,2): 2.0 vs 1.4, each over the smaller area.
+    EXPECT_NEAR(d.reciprocity_abs_error, 0.6 / 2.0, 1e-15);
+    EXPECT_NEAR(d.reciprocity_max_error, 0.2 / 0.6, 1e-15);
+    ff.F(0, 0) = -0.25;
+    EXPECT_EQ(check_form_factors(ff).min_entry, -0.25);
 }
 
 }  // namespace radiosa

@@ -59,4 +59,24 @@ TEST(PointPolygon, SphereBlockerTakesOutItsProjectedCap) {
     EXPECT_NEAR(point_to_polygon(x, n, q, 4, &s), q_open - 0.5 / 16.0, 1e-13);
 }
 
+// The cap arc of a sphere seen near the far end of a polygon edge that spans almost half the
+// sky (the horizon edge of a large wall close to x): its interval on the edge wraps past +pi and
+// is found only through the 2 pi shift. The mirror image puts the sphere near the edge's start,
+// where no wrap is needed; by symmetry both see exactly as much of the wall.
+TEST(PointPolygon, CapArcWrappingPastPiMatchesItsMirrorImage) {
+    const double L = 1000.0;
+    const Vec3 n(0, 0, 1);
+    // Faces -y, towards x; symmetric under x -> -x, which also reverses its first horizon edge.
+    const Vec3 wall[4] = {{L, 1, -L}, {L, 1, L}, {-L, 1, L}, {-L, 1, -L}};
+    for (double beyond : {0.02, 0.05, 0.1}) {
+        const Vec3 d(-std::cos(beyond), -std::sin(beyond), 0.05);
+        const BoundingSphere s{0.5 * d, 0.1}, m{0.5 * Vec3(-d.x, d.y, d.z), 0.1};
+        const double open = point_to_polygon(Vec3(0.0), n, wall, 4, nullptr);
+        const double f = point_to_polygon(Vec3(0.0), n, wall, 4, &s);
+        const double g = point_to_polygon(Vec3(0.0), n, wall, 4, &m);
+        EXPECT_LT(f, open - 1e-5) << beyond;  // the sphere hides part of the wall
+        EXPECT_NEAR(f, g, 1e-12) << beyond;
+    }
+}
+
 }  // namespace radiosa

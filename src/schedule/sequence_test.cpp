@@ -216,6 +216,31 @@ TEST(Scheduler, CameraOnlySequenceSolvesOnceAndRendersEveryFrame) {
     EXPECT_EQ(actions(p.plan), "fr rr rr rr rr ");
 }
 
+// A camera that only zooms or only rolls still moves the picture: every frame renders.
+TEST(Scheduler, ZoomOnlyAndRollOnlyStretchesRender) {
+    const Planned zoom = plan_of(R"(fps: 2
+camera:
+  keys:
+    - {time_s: 0, position: [6, 0, 0], fov_deg: 50}
+    - {time_s: 1, position: [6, 0, 0], fov_deg: 30}
+)");
+    EXPECT_EQ(actions(zoom.plan), "fr rr rr ");
+    const Planned roll = plan_of(R"(fps: 2
+camera:
+  keys:
+    - {time_s: 0, position: [6, 0, 0], up: [0, 0, 1]}
+    - {time_s: 1, position: [6, 0, 0], up: [0, 1, 1]}
+)");
+    EXPECT_EQ(actions(roll.plan), "fr rr rr ");
+    const Planned still = plan_of(R"(fps: 2
+camera:
+  keys:
+    - {time_s: 0, position: [6, 0, 0], fov_deg: 50}
+    - {time_s: 1, position: [6, 0, 0], fov_deg: 50}
+)");
+    EXPECT_EQ(actions(still.plan), "fr rc rc ");
+}
+
 TEST(Scheduler, LightOnlySequenceFactorisesOnceAndSubstitutes) {
     const Planned p = plan_of(R"(fps: 4
 duration_s: 2

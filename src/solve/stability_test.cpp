@@ -99,6 +99,42 @@ TEST(Stiff, ReflectanceOneEverywhereHasNoSteadyState) {
     EXPECT_EQ(check_steady_state(solver, m.rho, dark, true, "furnace.yaml"), "");
 }
 
+// Each channel is checked on its own: reflectance 1 in green alone has no steady state, and a
+// furnace with a different reflectance per channel solves each to its own E / (1 - rho).
+TEST(Stiff, ColouredFurnacesAreCheckedPerChannel) {
+    const Scene grey = furnace(0.5);
+    const auto [ff, m0] = system_of(grey, 1e-8);
+    for (int c = 0; c < 3; ++c) {
+        Materials m = m0;
+        for (Rgb& r : m.rho) r[c] = 1.0;
+        const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+        static const char* names[3] = {"red", "green", "blue"};
+        try {
+            check_steady_state(solver, m.rho, m.E, true, "furnace.yaml");
+            ADD_FAILURE() << "no error for the " << names[c] << " channel";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(std::string("in the ") + names[c] + " channel"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    Materials m = m0;
+    for (Rgb& r : m.rho) r = Rgb(0.9, 0.5, 0.99);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    const std::vector<Rgb> B = solver.solve(m.E);
+    for (const Rgb& b : B) {
+        EXPECT_NEAR(b.r, 1.0 / (1.0 - 0.9), 1e-6);
+        EXPECT_NEAR(b.g, 1.0 / (1.0 - 0.5), 1e-7);
+        EXPECT_NEAR(b.b, 1.0 / (1.0 - 0.99), 1e-5);
+    }
+    // Energy balance per channel: a wrong blue channel alone is seen.
+    std::vector<Rgb> wrong = B;
+    for (Rgb& b : wrong) b.b *= 1.01;
+    EXPECT_LT(diagnose_solution(ff.F, ff.area, m, B).energy_balance_error, 1e-6);
+    EXPECT_GT(diagnose_solution(ff.F, ff.area, m, wrong).energy_balance_error, 1e-3);
+    EXPECT_GT(diagnose_solution(ff.F, ff.area, m, wrong).residual, 1e-3);
+}
+
 TEST(Extreme, EmissionOf1e30And1em30ScalesExactly) {
     const Scene base = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
     const auto [ff, m] = system_of(base, 1e-4);
