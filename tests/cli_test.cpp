@@ -50,7 +50,7 @@ TEST(Cli, RendersImageAndReport) {
     EXPECT_LT(j["reciprocity_abs_error"].get<double>(), 1e-6);
     EXPECT_LT(j["reciprocity_vs_estimate"].get<double>(), 1.0);
     EXPECT_LT(j["closure_max_error"].get<double>(), 1e-6);
-    EXPECT_GT(j["energy_balance_error"].get<double>(), 0.0);
+    EXPECT_LT(j["energy_balance_error"].get<double>(), 2.3e-6);  // measured 2.25e-7 for image A
     // Nothing but the outputs is left behind (no temporary files).
     EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 3);
     fs::remove_all(d);
@@ -85,11 +85,15 @@ TEST(Cli, BadInputGivesOneMessageAndExitCodeOne) {
     EXPECT_EQ(r.err, "error: no/such.yaml: no such file\n");
     r = run({"render", kScene, "--camera", kCamA, "--widht", "3"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_EQ(r.err.rfind("error: ", 0), 0u);
+    EXPECT_EQ(r.err, "error: The following arguments were not expected: 3 --widht (see 'radiosa --help')\n");
     r = run({"render", kScene, "--camera", kCamA, "--width", "0"});
     EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err, "error: --width: Value 0 not in range 1 to 16384 (see 'radiosa --help')\n");
     r = run({"render", kScene, "--camera", kCamA, "--solver", "magic"});
     EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(r.err,
+              "error: --solver: magic not in {lu,gauss-jordan,jacobi,gauss-seidel,southwell} (see 'radiosa "
+              "--help')\n");
     const fs::path d = fresh_dir("radiosa_cli_bad");
     std::ofstream(d / "bad.yaml") << "surfaces:\n  - name: s\n    type: sphere\n    center: [0, 0, 0]\n"
                                      "    radius: -2\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n";
