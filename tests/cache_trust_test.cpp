@@ -38,14 +38,6 @@ constexpr bool kAsan = true;  // ASan reserves terabytes of address space: no ul
 constexpr bool kAsan = false;
 #endif
 
-std::vector<std::uint8_t> slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-void spit(const fs::path& p, const std::vector<std::uint8_t>& b) {
-    std::ofstream(p, std::ios::binary)
-        .write(reinterpret_cast<const char*>(b.data()), static_cast<long>(b.size()));
-}
 // A valid checksum for edited bytes.
 void reseal(std::vector<std::uint8_t>* b) {
     const std::uint64_t sum = XXH3_64bits(b->data(), b->size() - 8);
@@ -89,6 +81,16 @@ Load load(const fs::path& dir, double lock_timeout_s = 600) {
 }
 
 fs::path seed_file(const fs::path& dir) { return dir / (seed().key.hex() + ".rff"); }
+
+// The seed scene's good file in `dir`, its header claiming `patches` patches (checksum valid).
+void write_with_patch_count(const fs::path& dir, std::uint64_t patches) {
+    const Seed& s = seed();
+    write_cache_file(seed_file(dir), s.key, s.scene.name, s.scene.closed, s.geometry, s.good);
+    std::vector<std::uint8_t> b = test::read_bytes(seed_file(dir));
+    put_u64(&b, patches_offset(b), patches);
+    reseal(&b);
+    test::write_bytes(seed_file(dir), b);
+}
 
 // Runs a shell command with its virtual memory limited; returns its exit status.
 int run_limited(const std::string& cmd, int megabytes) {
@@ -159,19 +161,14 @@ TEST(CacheTrust, CraftedMatricesWithAValidChecksumAreRebuilt) {
 // A 105-byte header used to make the reader allocate 3.2 GB: the patch count is now checked
 // against the scene before anything is allocated, in a process limited to a fraction of that.
 TEST(CacheTrust, HeaderClaiming20000PatchesCostsNoMoreThanTheScene) {
-    const Seed& s = seed();
     const fs::path d = fresh_dir("radiosa_trust_header");
-    write_cache_file(seed_file(d), s.key, s.scene.name, s.scene.closed, s.geometry, s.good);
-    std::vector<std::uint8_t> b = slurp(seed_file(d));
-    put_u64(&b, patches_offset(b), 20000);
-    reseal(&b);
-    spit(seed_file(d), b);
+    write_with_patch_count(d, 20000);
     const Load r = load(d);
     EXPECT_EQ(r.outcome.status, CacheStatus::Rebuilt);
     EXPECT_NE(r.outcome.reason.find("20000 patches, the scene has 86"), std::string::npos)
         << r.outcome.reason;
     if (kAsan) return;
-    spit(seed_file(d), b);
+    write_with_patch_count(d, 20000);
     const std::string cmd = std::string(RADIOSA_BINARY) + " formfactors " + test::kSeedScene +
                             " -q --cache-dir " + d.string() + " 2> " + (d / "err").string();
     EXPECT_EQ(run_limited(cmd, 400), 0);  // 3.2 GB would not fit in 400 MB of address space
@@ -242,7 +239,7 @@ TEST(CacheTrust, CompressionBombFailsVerifyInBoundedMemory) {
     w.u64(XXH3_64bits(w.bytes().data(), w.bytes().size()));
     const fs::path file = d / "c" / "00000000000000000000000000000000.rff";
     fs::create_directories(file.parent_path());
-    spit(file, w.bytes());
+    test::write_bytes(file, w.bytes());
     ASSERT_LT(fs::file_size(file), 1u << 20);
 
     const CliRun r = run({"cache", "verify", "--cache-dir", (d / "c").string()});
@@ -292,7 +289,7 @@ TEST(CacheTrust, SpecialFilesArePassedOverNotWaitedOn) {
         const CliRun v = run({"cache", "verify", "--cache-dir", cache.string()});
         EXPECT_EQ(v.code, c.replaced ? 0 : 1) << v.out;
     }
-    EXPECT_EQ(slurp(target), (std::vector<std::uint8_t>{'p', 'r', 'e', 'c', 'i', 'o', 'u', 's'}));
+    EXPECT_EQ(test::read_bytes(target), (std::vector<std::uint8_t>{'p', 'r', 'e', 'c', 'i', 'o', 'u', 's'}));
     const CliRun f = run({"cache", "verify", "--cache-dir", target.string()});
     EXPECT_EQ(f.code, 1);
     EXPECT_EQ(f.err, "error: " + target.string() +
@@ -345,7 +342,7 @@ TEST(CacheTrust, PlantedLinksAreNeverFollowed) {
                   .code,
               0);
     EXPECT_FALSE(fs::is_symlink(d / "report.json"));
-    EXPECT_EQ(slurp(d / "target.json"), (std::vector<std::uint8_t>{'k', 'e', 'e', 'p'}));
+    EXPECT_EQ(test::read_bytes(d / "target.json"), (std::vector<std::uint8_t>{'k', 'e', 'e', 'p'}));
     fs::remove_all(d);
 }
 
@@ -366,13 +363,8 @@ TEST(CacheTrust, NamesFromFilesArePrintedEscaped) {
 
 // A header with zero patches (a null-pointer memcpy under UBSan) is refused by its count.
 TEST(CacheTrust, ZeroPatchesIsRefusedByItsCount) {
-    const Seed& s = seed();
     const fs::path d = fresh_dir("radiosa_trust_zero");
-    write_cache_file(seed_file(d), s.key, s.scene.name, s.scene.closed, s.geometry, s.good);
-    std::vector<std::uint8_t> b = slurp(seed_file(d));
-    put_u64(&b, patches_offset(b), 0);
-    reseal(&b);
-    spit(seed_file(d), b);
+    write_with_patch_count(d, 0);
     const CliRun r = run({"cache", "verify", "--cache-dir", d.string()});
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.out.find("implausible patch count 0"), std::string::npos) << r.out;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "../tests/cli_run.h"
 #include "../tests/test_scenes.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -36,15 +37,6 @@ Scene move_corner(Scene s, int k, int corner, const Vec3& d) {
     c[corner] += d;
     s.surfaces[k].shape = std::make_shared<QuadSurface>(c[0], c[1], c[2], c[3]);
     return s;
-}
-
-std::vector<std::uint8_t> slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-void spit(const fs::path& p, const std::vector<std::uint8_t>& b) {
-    std::ofstream(p, std::ios::binary)
-        .write(reinterpret_cast<const char*>(b.data()), static_cast<long>(b.size()));
 }
 
 struct Obtained {
@@ -160,12 +152,12 @@ TEST(CacheObtain, DamagedFilesAreDetectedAndRebuilt) {
     const Scene scene = load_scene(kSeed);
     const Obtained good = obtain(scene, d);
     const fs::path file = good.outcome.file;
-    const std::vector<std::uint8_t> pristine = slurp(file);
+    const std::vector<std::uint8_t> pristine = test::read_bytes(file);
     ASSERT_GT(pristine.size(), 1000u);
 
     // A file of another scene (or other settings) copied under this key's name.
     const Obtained other = obtain(scene, d, 3);
-    const std::vector<std::uint8_t> foreign = slurp(other.outcome.file);
+    const std::vector<std::uint8_t> foreign = test::read_bytes(other.outcome.file);
     // A file with this key but the patch table of another scene.
     const fs::path forged = d / "forged.rff";
     {
@@ -174,7 +166,7 @@ TEST(CacheObtain, DamagedFilesAreDetectedAndRebuilt) {
         write_cache_file(forged, form_factor_key(scene, opts()), p.name, true, g,
                          compute_form_factors(g, opts()));
     }
-    const std::vector<std::uint8_t> wrong_table = slurp(forged);
+    const std::vector<std::uint8_t> wrong_table = test::read_bytes(forged);
     fs::remove(forged);
 
     struct Case {
@@ -210,14 +202,14 @@ TEST(CacheObtain, DamagedFilesAreDetectedAndRebuilt) {
 
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
-        spit(file, c.bytes);
+        test::write_bytes(file, c.bytes);
         const Obtained r = obtain(scene, d);
         EXPECT_EQ(r.outcome.status, CacheStatus::Rebuilt);
         EXPECT_NE(r.outcome.reason.find(c.reason), std::string::npos) << r.outcome.reason;
         ASSERT_EQ(r.warnings.size(), 1u);
         EXPECT_NE(r.warnings[0].find(file.string()), std::string::npos);
-        EXPECT_EQ(r.ff.F.data, good.ff.F.data);  // never a partially used matrix
-        EXPECT_EQ(slurp(file), pristine);        // rewritten, and deterministic
+        EXPECT_EQ(r.ff.F.data, good.ff.F.data);       // never a partially used matrix
+        EXPECT_EQ(test::read_bytes(file), pristine);  // rewritten, and deterministic
         EXPECT_EQ(obtain(scene, d).outcome.status, CacheStatus::Hit);
     }
     fs::remove_all(d);

@@ -177,14 +177,17 @@ TEST(FormFactorChecks, WrongMatricesAreMeasuredNotExcused) {
     EXPECT_NEAR(c.reciprocity_vs_estimate, 0.7 / (1.0 * 1e-3 + 2.0 * 1e-3), 1e-9);
     EXPECT_EQ(c.max_error_estimate, 5e-3);
     EXPECT_NEAR(c.max_row_error_estimate, 6e-3, 1e-15);
-    // The same with the pair's directions swapped: the difference's sign does not matter.
+    // The same with the pair's directions swapped, and the row furthest from 1 below it: the
+    // differences' signs do not matter.
     std::swap(ff.F(0, 1), ff.F(1, 0));
-    ff.F(0, 2) = 0.4, ff.F(1, 2) = 1.0;  // rows 0.9 and 1.3
+    ff.F(0, 2) = 0.2, ff.F(1, 2) = 0.8;  // rows 0.7 and 1.1
     const FormFactorChecks d = check_form_factors(ff);
     EXPECT_NEAR(d.closure_max_error, 0.3, 1e-15);
-    // (0,1): 0.5 vs 0.6, (0,2): 0.4 vs 0.6, (1,2): 2.0 vs 1.4, each over the smaller area.
-    EXPECT_NEAR(d.reciprocity_abs_error, 0.6 / 2.0, 1e-15);
-    EXPECT_NEAR(d.reciprocity_max_error, 0.2 / 0.6, 1e-15);
+    EXPECT_EQ(d.closure_worst_patch, 0);
+    // (0,1): 0.5 vs 0.6, (0,2): 0.2 vs 0.6, (1,2): 1.6 vs 1.4; over the smaller area, and
+    // relative to the larger side.
+    EXPECT_NEAR(d.reciprocity_abs_error, 0.4, 1e-15);
+    EXPECT_NEAR(d.reciprocity_max_error, 0.4 / 0.6, 1e-15);
     ff.F(0, 0) = -0.25;
     EXPECT_EQ(check_form_factors(ff).min_entry, -0.25);
 }
