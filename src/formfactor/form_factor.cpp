@@ -46,7 +46,7 @@ std::vector<QuadPoint> quadrature_points(const Surface& surf, const Patch& p, co
 
 // Signed distance range of a patch from a plane.
 std::pair<double, double> extent(const Patch& p, const Plane& plane) {
-    if (p.planar) {
+    if (p.polygon) {
         double lo = plane.signed_distance(p.corners[0]), hi = lo;
         for (int k = 1; k < 4; ++k) {
             const double d = plane.signed_distance(p.corners[k]);
@@ -342,7 +342,7 @@ public:
     bool semi_analytic(int i, int j, const std::vector<int>& blockers,
                        std::optional<BoundingSphere>* blocker) const {
         const Patch& pj = m_geo.patch(j);
-        if (!pj.planar) return false;
+        if (!pj.polygon) return false;
         blocker->reset();
         if (!m_opt.visibility || blockers.empty()) return true;
         if (blockers.size() != 1) return false;

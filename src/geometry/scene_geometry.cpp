@@ -18,7 +18,7 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
         m_nt.push_back(desc.nt);
         m_first_patch.push_back(static_cast<int>(m_patches.size()));
         const Surface& surf = *m_surfaces.back();
-        const bool planar = surf.plane().has_value();
+        const bool polygon = surf.patches_are_polygons();
         for (int it = 0; it < desc.nt; ++it)
             for (int is = 0; is < desc.ns; ++is) {
                 Patch p;
@@ -33,7 +33,7 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
                 p.bound = surf.bound(p.s0, p.s1, p.t0, p.t1);
                 p.corners = {surf.point(p.s0, p.t0), surf.point(p.s1, p.t0), surf.point(p.s1, p.t1),
                              surf.point(p.s0, p.t1)};
-                p.planar = planar;
+                p.polygon = polygon;
                 m_patches.push_back(p);
             }
         const BoundingSphere b = surf.bound(0, 1, 0, 1);

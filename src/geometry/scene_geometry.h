@@ -21,7 +21,7 @@ struct Patch {
     double area = 0;  // exact
     BoundingSphere bound;
     std::array<Vec3, 4> corners{};  // P(s0,t0), P(s1,t0), P(s1,t1), P(s0,t1)
-    bool planar = false;
+    bool polygon = false;  // exactly the convex polygon of its corners (Surface::patches_are_polygons)
 };
 
 struct Hit {

@@ -18,6 +18,7 @@ public:
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
     std::optional<Plane> plane() const override { return m_plane; }
+    bool patches_are_polygons() const override { return true; }
     bool chords_never_cross() const override { return true; }
     bool front_segments_escape() const override { return true; }
     bool sees_itself() const override { return false; }

@@ -49,6 +49,11 @@ public:
     virtual BoundingSphere bound(double s0, double s1, double t0, double t1) const = 0;
     // The supporting plane of a planar surface.
     virtual std::optional<Plane> plane() const { return std::nullopt; }
+    // True when every patch is exactly the convex polygon of its four corner points P(s0,t0),
+    // P(s1,t0), P(s1,t1), P(s0,t1) (a quad's patches): form factors then use the closed-form
+    // point-to-polygon integral and the corners' extent. A planar surface whose patches have
+    // curved edges (a disk's sectors) is planar but returns false.
+    virtual bool patches_are_polygons() const { return false; }
     // Centre and radius of a spherical surface.
     virtual std::optional<BoundingSphere> sphere() const { return std::nullopt; }
 
