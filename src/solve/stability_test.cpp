@@ -136,6 +136,31 @@ TEST(Stiff, ColouredFurnacesAreCheckedPerChannel) {
     EXPECT_GT(diagnose_solution(ff.F, ff.area, m, wrong).residual, 1e-3);
 }
 
+// The paper's fixed rule overestimates the seed scene's edge pairs (rows up to 1.14): with every
+// reflectance 0.95, rho F has a spectral radius above 1 although no reflectance is 1. That
+// system has no steady state and is refused, naming the bound.
+TEST(Stiff, SpectralRadiusAboveOneIsRefused) {
+    Scene scene = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    const SceneGeometry g(scene);
+    const FormFactors ff = compute_form_factors(g, FormFactorOptions::gauss(6));
+    Materials m = patch_materials(scene);
+    for (Rgb& r : m.rho) r = Rgb(0.95);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    EXPECT_GT(solver.stability(0).spectral_lo, 1.0);
+    EXPECT_LT(solver.stability(0).spectral_hi, 1.2);
+    try {
+        check_steady_state(solver, m.rho, m.E, true, "seed.yaml");
+        ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+        EXPECT_EQ(
+            std::string(e.what()).rfind("seed.yaml: the red channel has no steady state: the spectral radius "
+                                        "of rho F is 1.",
+                                        0),
+            0u)
+            << e.what();
+    }
+}
+
 TEST(Extreme, EmissionOf1e30And1em30ScalesExactly) {
     const Scene base = load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
     const auto [ff, m] = system_of(base, 1e-4);
