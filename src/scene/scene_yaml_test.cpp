@@ -84,6 +84,23 @@ TEST(SceneYaml, ReadsEveryField) {
     EXPECT_EQ(s.patch_count(), 6 + 32 + 1);
 }
 
+// patch_emission [i, j] is patch i along s and j along t: in patch order (s fastest) index
+// j * ns + i of its surface, after the patches of the surfaces before it.
+TEST(SceneYaml, PatchEmissionLandsOnItsPatch) {
+    const Scene s = parse_scene(
+        "surfaces:\n"
+        "  - {name: a, type: quad, corners: [[0,0,0],[1,0,0],[1,1,0],[0,1,0]], patches: [2, 2], reflectance: "
+        "[0,0,0]}\n"
+        "  - {name: b, type: quad, corners: [[0,0,1],[0,1,1],[1,1,1],[1,0,1]], patches: [3, 2], reflectance: "
+        "[0,0,0],\n"
+        "     emission: [1, 1, 1], patch_emission: [{patch: [2, 0], emission: [5, 5, 5]}]}\n",
+        "p.yaml");
+    const Materials m = patch_materials(s);
+    ASSERT_EQ(m.E.size(), 10u);
+    for (std::size_t i = 0; i < m.E.size(); ++i)
+        EXPECT_EQ(m.E[i], i < 4 ? Rgb(0.0) : i == 4 + 2 ? Rgb(5.0) : Rgb(1.0)) << "patch " << i;
+}
+
 TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
     const Scene s = parse_scene(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n"), "d.yaml");
     EXPECT_EQ(s.name, "d");
