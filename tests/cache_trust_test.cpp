@@ -372,6 +372,55 @@ TEST(CacheTrust, ZeroPatchesIsRefusedByItsCount) {
     fs::remove_all(d);
 }
 
+// A sparse matrix whose column index is one past the row (N) is refused, never written into
+// the next row or past the matrix: a CSR file crafted with a valid checksum.
+TEST(CacheTrust, SparseColumnIndexOfNIsRefused) {
+    const Scene s = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: floor, type: quad, corners: [[0,0,0],[1,0,0],[1,1,0],[0,1,0]], patches: [2, 2], "
+        "reflectance: [0,0,0]}\n"
+        "  - {name: top, type: quad, corners: [[0,0,1],[0,1,1],[1,1,1],[1,0,1]], patches: [1, 1], "
+        "reflectance: [0,0,0]}\n",
+        "csr.yaml");
+    const SceneGeometry g(s);
+    const FormFactorOptions o;
+    const FormFactors ff = compute_form_factors(g, o);
+    const CacheKey key = form_factor_key(s, o);
+    const fs::path d = fresh_dir("radiosa_trust_csr");
+    write_cache_file(d / "f.rff", key, s.name, s.closed, g, ff);
+    std::vector<std::uint8_t> b = test::read_bytes(d / "f.rff");
+    const std::size_t at = patches_offset(b);  // then surfaces, element, layout, compression, ...
+    auto u64_at = [&](std::size_t k) {
+        std::uint64_t v = 0;
+        for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(b[k + i]) << (8 * i);
+        return v;
+    };
+    ASSERT_EQ(b[at + 20], 1);  // CSR
+    const std::uint64_t stored = u64_at(at + 48), raw = u64_at(at + 56);
+    const std::size_t section = b.size() - 8 - stored;
+    std::vector<std::uint8_t> m(raw);
+    if (b[at + 24] == 1)
+        ASSERT_EQ(ZSTD_decompress(m.data(), m.size(), b.data() + section, stored), raw);
+    else
+        std::copy(b.begin() + section, b.begin() + section + stored, m.begin());
+    const std::size_t n = 5, first_column = 8 * (n + 1);
+    m[first_column] = static_cast<std::uint8_t>(n);  // row 0's first column: 5, one past the row
+    m[first_column + 1] = m[first_column + 2] = m[first_column + 3] = 0;
+    b.resize(section);
+    b[at + 24] = 0;  // stored uncompressed
+    put_u64(&b, at + 48, raw);
+    b.insert(b.end(), m.begin(), m.end());
+    b.resize(b.size() + 8);
+    reseal(&b);
+    try {
+        read_cache_bytes(b, {key, &g, o, s.closed});
+        FAIL() << "no error";
+    } catch (const CacheFileError& e) {
+        EXPECT_STREQ(e.what(), "sparse column index out of range");
+    }
+    fs::remove_all(d);
+}
+
 // Running out of memory is a message and exit code 2, never an abort.
 TEST(CacheTrust, OutOfMemoryIsAMessage) {
     if (kAsan) GTEST_SKIP() << "ulimit -v cannot be combined with AddressSanitizer";

@@ -8,6 +8,7 @@
 
 #include "encode/encode.h"
 #include "encode/image_io.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 
 namespace radiosa {
@@ -29,11 +30,34 @@ TEST(Raycast, SphereSilhouetteCoversTheAnalyticArea) {
     CameraDesc cd;
     cd.eye = Vec3(6, 0, 0);
     cd.fov_deg = 50;
-    const RenderOptions opt{200, 200, 4};
-    const PinholeCamera cam(cd, opt.width, opt.height);
-    const double r = cam.focal_pixels() * std::tan(std::asin(1.0 / 6.0));
-    const double expected = kPi * r * r;
-    EXPECT_NEAR(surface_coverage(geo, 0, cam, opt), expected, 0.003 * expected);
+    // Square and wide images alike: the disc stays round (the field of view is vertical).
+    for (const RenderOptions opt : {RenderOptions{200, 200, 4}, RenderOptions{300, 150, 4}}) {
+        const PinholeCamera cam(cd, opt.width, opt.height);
+        const double r = cam.focal_pixels() * std::tan(std::asin(1.0 / 6.0));
+        const double expected = kPi * r * r;
+        EXPECT_NEAR(surface_coverage(geo, 0, cam, opt), expected, 0.003 * expected) << opt.width;
+    }
+}
+
+// Sub-pixel rays sit at the centres of their cells: a sphere in the middle of the view renders
+// left-right and top-bottom symmetric, with one ray per pixel and with four.
+TEST(Raycast, SamplesAtCellCentresKeepASymmetricViewSymmetric) {
+    const Scene s = lone_sphere();
+    const SceneGeometry geo(s);
+    const std::vector<Rgb> B(geo.patch_count(), Rgb(1.0)), E(geo.patch_count(), Rgb(0.0));
+    const NodeRadiosity nodes(geo, B, E);
+    CameraDesc cd;
+    cd.eye = Vec3(6, 0, 0);
+    for (int samples : {1, 2}) {
+        const RenderOptions opt{41, 41, samples};
+        const Image img = render_image(geo, nodes, PinholeCamera(cd, opt.width, opt.height), opt);
+        int asymmetric = 0;
+        for (int y = 0; y < opt.height; ++y)
+            for (int x = 0; x < opt.width; ++x)
+                asymmetric += std::abs(img.pixel(x, y).r - img.pixel(opt.width - 1 - x, y).r) > 1e-6 ||
+                              std::abs(img.pixel(x, y).r - img.pixel(x, opt.height - 1 - y).r) > 1e-6;
+        EXPECT_EQ(asymmetric, 0) << samples << " samples";
+    }
 }
 
 TEST(Shading, NodesAverageAroundSeamAndPoles) {

@@ -140,6 +140,8 @@ TEST(Sequence, BadFilesNameTheLineAndTheFix) {
     EXPECT_EQ(error_of(kOrbitKeys, &scene), "s.yaml:1:1: sequence file is missing the required key 'fps'");
     EXPECT_EQ(error_of(std::string("fps: 0\n") + kOrbitKeys, &scene),
               "s.yaml:1:6: fps must be in (0, 240], got 0");
+    EXPECT_EQ(error_of(std::string("fps: 300\n") + kOrbitKeys, &scene),
+              "s.yaml:1:6: fps must be in (0, 240], got 300");
     const std::string head = std::string("fps: 10\n") + kOrbitKeys + "events:\n";
     EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face9, emission: [1, 1, 1]}\n", &scene),
               "s.yaml:14:26: event 1: no surface named 'face9' in " + kSeed +
