@@ -90,7 +90,9 @@ std::uint64_t max_raw_size(std::uint64_t n, std::uint32_t layout, bool errors) {
 }
 
 std::uint64_t min_table_size(const Header& h) {
-    return 12 * h.info.surfaces + 20 * h.info.patches + 8 * kCounters;
+    std::uint64_t counters = 0;  // as many as FormFactorStats lists, i64 each
+    FormFactorStats().for_each_counter([&](const char*, long long) { ++counters; });
+    return 12 * h.info.surfaces + 20 * h.info.patches + 8 * counters;
 }
 
 std::uint64_t max_table_size(const Header& h) { return min_table_size(h) + kMaxName * h.info.surfaces; }

@@ -20,7 +20,6 @@ inline constexpr std::uint32_t kFlagErrors = 1, kFlagVisibility = 2, kFlagClosed
 inline constexpr std::uint32_t kMethodFixed = 0, kMethodAdaptive = 1;
 inline constexpr std::uint32_t kMaxName = 4096;  // bytes of a scene or surface name
 inline constexpr std::size_t kHeadRead = 8192;   // the header lies within this many bytes
-inline constexpr std::size_t kCounters = 11;     // FormFactorStats counters (i64 each)
 
 // Everything in the file before the table.
 struct Header {
