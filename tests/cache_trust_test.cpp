@@ -18,6 +18,7 @@
 #include <functional>
 
 #include "cache/cache_file.h"
+#include "formfactor/form_factor.h"
 #include "cli_run.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -234,7 +235,7 @@ TEST(CacheTrust, CompressionBombFailsVerifyInBoundedMemory) {
         w.u32(i / 100);
         w.f64(1.0);
     }
-    for (int k = 0; k < 11; ++k) w.i64(0);
+    FormFactorStats{}.for_each_counter([&](const char*, long long) { w.i64(0); });
     w.raw(packed.data(), packed.size());
     w.u64(XXH3_64bits(w.bytes().data(), w.bytes().size()));
     const fs::path file = d / "c" / "00000000000000000000000000000000.rff";

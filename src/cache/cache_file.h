@@ -35,7 +35,7 @@ namespace radiosa {
 struct Scene;
 class SceneGeometry;
 
-inline constexpr std::uint32_t kCacheFormatVersion = 4;
+inline constexpr std::uint32_t kCacheFormatVersion = 5;
 
 struct CacheKey {
     std::array<std::uint8_t, 16> bytes{};

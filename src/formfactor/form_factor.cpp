@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "formfactor/point_polygon.h"
+#include "formfactor/polygon_polygon.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "util/gauss_legendre.h"
@@ -337,6 +338,32 @@ public:
         return v;
     }
 
+    // A_i F_ij = A_j F_ji exactly (to round-off, with its rounding estimate), when a closed
+    // form covers the pair: two polygons nothing can come between (the contour integral), or two
+    // patches of the inside of one sphere with nothing in the way (every point sees every other
+    // at cos_i cos_j / (pi r^2) = 1 / (4 pi R^2), so F_ij = A_j / (4 pi R^2), F_ii included).
+    std::optional<Estimate> closed_form(int i, int j, const std::vector<int>& blockers) const {
+        if (m_opt.visibility && !blockers.empty()) return std::nullopt;
+        const Patch& pi = m_geo.patch(i);
+        const Patch& pj = m_geo.patch(j);
+        Estimate e;
+        if (pi.polygon && pj.polygon && i != j) {
+            const std::array<Vec3, 4> a = polygon(i), b = polygon(j);
+            const PolygonPair p = polygon_to_polygon(a.data(), 4, b.data(), 4);
+            e.value = p.value;
+            e.error = p.error;
+            return e;
+        }
+        const Surface& s = m_geo.surface(pi.surface);
+        if (pi.surface != pj.surface || !s.sees_itself()) return std::nullopt;
+        if (const auto sph = s.sphere()) {
+            e.value = pi.area * pj.area / (4.0 * kPi * sph->radius * sph->radius);
+            e.error = 8 * std::numeric_limits<double>::epsilon() * e.value;
+            return e;
+        }
+        return std::nullopt;
+    }
+
     // Can F_ij use the closed-form inner integral? j must be planar and nothing may block the
     // pair, except one sphere that lies wholly between patch i and j's plane.
     bool semi_analytic(int i, int j, const std::vector<int>& blockers,
@@ -479,6 +506,16 @@ public:
                 continue;
             }
             m_base.occluders(i, j, &blockers, st);
+            auto set = [&](int a, int b, const Estimate& e, double area_a) {
+                (*F)(a, b) = e.value / area_a;
+                (*E)[static_cast<std::size_t>(a) * n + b] = e.error / area_a;
+            };
+            if (const std::optional<Estimate> e = closed_form(i, j, blockers)) {
+                ++st->closed_form;
+                set(i, j, *e, ai);
+                if (!self) set(j, i, *e, aj);
+                continue;
+            }
             std::optional<BoundingSphere> bij, bji;
             bool fwd = !self && semi_analytic(i, j, blockers, &bij);
             bool bwd = !self && semi_analytic(j, i, blockers, &bji);
@@ -493,10 +530,6 @@ public:
                 else
                     fwd = false;
             }
-            auto set = [&](int a, int b, const Estimate& e, double area_a) {
-                (*F)(a, b) = e.value / area_a;
-                (*E)[static_cast<std::size_t>(a) * n + b] = e.error / area_a;
-            };
             if (fwd || bwd) {
                 if (fwd) {
                     const Estimate e = area_times_f_semi(i, j, bij, tol);

@@ -71,7 +71,7 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 3;
+inline constexpr int kFormFactorAlgorithmVersion = 4;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included
@@ -81,6 +81,8 @@ struct FormFactorStats {
     long long pairs_unoccluded = 0;  // computed pairs that no surface can block: no occlusion tests at all
     long long segment_tests = 0;     // exact segment-surface intersection tests performed
     // Error-controlled mode: how each computed direction of a pair was integrated.
+    long long closed_form = 0;     // pairs exact to round-off: unoccluded polygons (contour integral),
+                                   // two patches of the inside of one sphere (A_j / 4 pi R^2)
     long long semi_analytic = 0;   // closed-form inner integral (planar receiver), adaptive outer
     long long numeric = 0;         // adaptive quadrature of both integrals (curved receivers, occluders)
     long long by_reciprocity = 0;  // entries set from the other direction: A_i F_ij = A_j F_ji
@@ -99,6 +101,7 @@ struct FormFactorStats {
         v("occluders_culled", s.occluders_culled);
         v("pairs_unoccluded", s.pairs_unoccluded);
         v("segment_tests", s.segment_tests);
+        v("closed_form", s.closed_form);
         v("semi_analytic", s.semi_analytic);
         v("numeric", s.numeric);
         v("by_reciprocity", s.by_reciprocity);

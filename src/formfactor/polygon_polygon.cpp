@@ -1,0 +1,185 @@
+#include "formfactor/polygon_polygon.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace radiosa {
+
+namespace {
+
+constexpr int kMaxVerts = 9;  // a convex 8-gon cut by one plane
+
+struct Poly {
+    std::array<Vec3, kMaxVerts> v{};
+    int n = 0;
+};
+
+Vec3 newell(const Vec3* v, int n) {
+    Vec3 m(0.0);
+    for (int k = 0; k < n; ++k) m += glm::cross(v[k], v[(k + 1) % n]);
+    return m;
+}
+
+// The part of the polygon where m . (x - o) >= 0, in the same order (Sutherland-Hodgman).
+Poly clip(const Poly& p, const Vec3& m, const Vec3& o) {
+    Poly out;
+    for (int k = 0; k < p.n; ++k) {
+        const Vec3& a = p.v[k];
+        const Vec3& b = p.v[(k + 1) % p.n];
+        const double da = glm::dot(m, a - o), db = glm::dot(m, b - o);
+        if (da >= 0.0 && out.n < kMaxVerts) out.v[out.n++] = a;
+        if ((da >= 0.0) != (db >= 0.0) && out.n < kMaxVerts) out.v[out.n++] = a + (b - a) * (da / (da - db));
+    }
+    return out;
+}
+
+// The Kronrod (7, 15) pair on [-1, 1] (Piessens et al., QUADPACK qk15): abscissae of the
+// 15-point rule from the outside in (odd positions are the 7-point Gauss nodes), its weights,
+// and the Gauss weights of positions 1, 3, 5, 7.
+constexpr std::array<double, 8> kXk = {0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+                                       0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+                                       0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+                                       0.207784955007898467600689403773245, 0.0};
+constexpr std::array<double, 8> kWk = {0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+                                       0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+                                       0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+                                       0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+constexpr std::array<double, 4> kWg = {0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+                                       0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+
+// One edge of the second polygon: start, unit direction, length.
+struct Edge {
+    Vec3 q;
+    Vec3 d;
+    double len;
+};
+
+// The integral over the edge of ln(r / rho), r the distance to p, in closed form: with u the
+// position of p's foot along the edge and h its distance from the edge's line,
+//   int ln sqrt(tau^2 + h^2) dtau = tau/2 ln(tau^2 + h^2) - tau + h atan(tau / h).
+// `mag` receives the size of the terms that cancel, for the rounding estimate.
+double inner(const Vec3& p, const Edge& e, double log_rho, double* mag) {
+    const Vec3 w = p - e.q;
+    const double u = glm::dot(w, e.d);
+    const double h = glm::length(glm::cross(w, e.d));
+    auto prim = [&](double tau) {
+        const double r2 = tau * tau + h * h;
+        const double lg = r2 > 0.0 ? 0.5 * tau * (std::log(r2) - 2.0 * log_rho) : 0.0;
+        return lg - tau + (h > 0.0 ? h * std::atan(tau / h) : 0.0);
+    };
+    const double hi = prim(e.len - u), lo = prim(-u);
+    *mag += std::abs(hi) + std::abs(lo);
+    return hi - lo;
+}
+
+struct Interval {
+    double a, b, value, error;
+};
+
+// The integral over edge a0 -> a0 + len * d of inner(., e) by adaptive Gauss-Kronrod, bisecting
+// the interval with the largest |K15 - G7| until the sum is below the rounding level of the
+// terms (or a cap of intervals is hit, which the returned error then shows).
+PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const Edge& e, double log_rho) {
+    PolygonPair out;
+    double mag = 0.0;
+    auto rule = [&](double a, double b) {
+        const double c = 0.5 * (a + b), h = 0.5 * (b - a);
+        double k = kWk[7] * inner(a0 + c * d, e, log_rho, &mag), g = kWg[3] * inner(a0 + c * d, e, log_rho, &mag);
+        for (int i = 0; i < 7; ++i) {
+            const double f = inner(a0 + (c - h * kXk[i]) * d, e, log_rho, &mag) +
+                             inner(a0 + (c + h * kXk[i]) * d, e, log_rho, &mag);
+            k += kWk[i] * f;
+            if (i % 2 == 1) g += kWg[i / 2] * f;
+        }
+        out.evaluations += 16;
+        return Interval{a, b, k * h, std::abs((k - g) * h)};
+    };
+    constexpr int kMaxIntervals = 400;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    auto lower = [](const Interval& x, const Interval& y) { return x.error < y.error; };
+    std::vector<Interval> heap{rule(0.0, len)};
+    double err = heap[0].error;
+    // Rounding: every evaluation's cancelling terms, scaled to the interval it came from.
+    auto rounding = [&] { return 16 * eps * mag * len / std::max(1, out.evaluations); };
+    while (err > rounding() && static_cast<int>(heap.size()) < kMaxIntervals) {
+        std::pop_heap(heap.begin(), heap.end(), lower);
+        const Interval top = heap.back();
+        heap.pop_back();
+        err -= top.error;
+        const double mid = 0.5 * (top.a + top.b);
+        for (const Interval& half : {rule(top.a, mid), rule(mid, top.b)}) {
+            heap.push_back(half);
+            err += half.error;
+            std::push_heap(heap.begin(), heap.end(), lower);
+        }
+    }
+    err = 0.0;
+    for (const Interval& iv : heap) {
+        out.value += iv.value;
+        err += iv.error;
+    }
+    out.error = err + rounding();
+    return out;
+}
+
+}  // namespace
+
+PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb) {
+    PolygonPair out;
+    // Work in coordinates centred on a's first vertex and scaled to the larger polygon's size,
+    // so that the logarithms are of order one at every scale.
+    const Vec3 origin = a[0];
+    double size = 0.0;
+    for (int k = 0; k < na; ++k) size = std::max(size, glm::length(a[k] - origin));
+    Vec3 cb(0.0);
+    for (int k = 0; k < nb; ++k) cb += b[k];
+    cb /= nb;
+    for (int k = 0; k < nb; ++k) size = std::max(size, glm::length(b[k] - cb));
+    if (!(size > 0.0)) return out;
+    Poly pa, pb;
+    for (int k = 0; k < na; ++k) pa.v[pa.n++] = (a[k] - origin) / size;
+    for (int k = 0; k < nb; ++k) pb.v[pb.n++] = (b[k] - origin) / size;
+    const Vec3 ma = newell(pa.v.data(), pa.n), mb = newell(pb.v.data(), pb.n);
+    // Each polygon cut to the other's front side: there both cosines are positive.
+    const Poly ca = clip(pa, mb, pb.v[0]), cbp = clip(pb, ma, pa.v[0]);
+    if (ca.n < 3 || cbp.n < 3) return out;
+    // Coplanar (or an edge-on sliver): nothing is exchanged.
+    double ha = 0.0, hb = 0.0;
+    for (int k = 0; k < ca.n; ++k) ha = std::max(ha, glm::dot(glm::normalize(mb), ca.v[k] - pb.v[0]));
+    for (int k = 0; k < cbp.n; ++k) hb = std::max(hb, glm::dot(glm::normalize(ma), cbp.v[k] - pa.v[0]));
+    if (!(ha > 1e-14) || !(hb > 1e-14)) return out;
+    // ln r is taken relative to the polygons' distance, which the closed contours cancel
+    // exactly, so that far-apart pairs keep their digits.
+    Vec3 c1(0.0), c2(0.0);
+    for (int k = 0; k < ca.n; ++k) c1 += ca.v[k];
+    for (int k = 0; k < cbp.n; ++k) c2 += cbp.v[k];
+    const double log_rho = std::log(std::max(1.0, glm::length(c1 / double(ca.n) - c2 / double(cbp.n))));
+    double sum = 0.0, err = 0.0;
+    for (int k = 0; k < ca.n; ++k) {
+        const Vec3 ak = ca.v[k], dk = ca.v[(k + 1) % ca.n] - ak;
+        const double lk = glm::length(dk);
+        if (!(lk > 0.0)) continue;
+        for (int l = 0; l < cbp.n; ++l) {
+            const Vec3 bl = cbp.v[l], dl = cbp.v[(l + 1) % cbp.n] - bl;
+            const double ll = glm::length(dl);
+            if (!(ll > 0.0)) continue;
+            const double c = glm::dot(dk / lk, dl / ll);
+            if (c == 0.0) continue;
+            const PolygonPair p = integrate_edge_pair(ak, dk / lk, lk, Edge{bl, dl / ll, ll}, log_rho);
+            sum += c * p.value;
+            err += std::abs(c) * p.error;
+            out.evaluations += p.evaluations;
+        }
+    }
+    // Both contours run counter-clockwise about normals that face each other, so the
+    // textbook's sign (same sense about one common normal) flips.
+    const double scale2 = size * size / (2.0 * kPi);
+    out.value = std::max(0.0, sum * scale2);
+    out.error = (err + 64 * std::numeric_limits<double>::epsilon() * std::abs(sum)) * scale2;
+    return out;
+}
+
+}  // namespace radiosa
