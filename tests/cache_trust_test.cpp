@@ -18,8 +18,8 @@
 #include <functional>
 
 #include "cache/cache_file.h"
-#include "formfactor/form_factor.h"
 #include "cli_run.h"
+#include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "util/bytes.h"

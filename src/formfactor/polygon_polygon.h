@@ -14,8 +14,8 @@
 namespace radiosa {
 
 struct PolygonPair {
-    double value = 0.0;  // A_a F_ab = A_b F_ba (area units)
-    double error = 0.0;  // bound on |value - exact|: quadrature estimates plus rounding
+    double value = 0.0;   // A_a F_ab = A_b F_ba (area units)
+    double error = 0.0;   // bound on |value - exact|: quadrature estimates plus rounding
     int evaluations = 0;  // inner closed forms evaluated (a cost measure)
 };
 
