@@ -50,6 +50,9 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
         "--no-culling", [culling] { *culling = false; },
         "Integrate every pair and test every surface as an occluder, without the cache: "
         "measures what culling saves");
+    cmd->add_flag("--strict", req->strict,
+                  "Refuse (exit 1, no output) a scene whose surfaces intersect or a matrix with any entry "
+                  "whose error estimate misses its tolerance, instead of warning");
     add_cache_dir_option(cmd, cache);
     cmd->add_flag_callback(
         "--no-cache", [cache] { cache->enabled = false; }, "Neither read nor write the form-factor cache");

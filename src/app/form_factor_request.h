@@ -16,6 +16,7 @@ struct FormFactorRequest {
     std::optional<bool> visibility;   // --no-visibility
     bool culling = true;              // --no-culling (a diagnostic; bypasses the cache)
     CacheSettings cache;              // --cache-dir, --no-cache
+    bool strict = false;              // --strict: intersecting surfaces and missed tolerances are errors
 
     FormFactorOptions options_for(const Scene& scene) const {
         FormFactorOptions o =

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/report_json.h"
+#include "util/error.h"
 #include "util/stopwatch.h"
 
 namespace radiosa {
@@ -16,6 +17,17 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     Stopwatch clock;
     Prepared p(load_scene(scene_path));
     if (check_inputs) check_inputs(p);
+    p.intersections = find_intersections(p.geometry);
+    if (!p.intersections.empty()) {
+        const std::string w = intersection_warning(p.geometry, p.intersections);
+        if (request.strict) {
+            const SurfaceDesc& d = p.scene.surfaces[static_cast<std::size_t>(p.intersections[0].b)];
+            throw Error(d.loc,
+                        "surfaces intersect: " + intersection_names(p.geometry, p.intersections) +
+                            "; move them apart (touching along an edge is fine) or run without --strict");
+        }
+        warn(w);
+    }
     p.load_s = clock.seconds();
 
     p.options = request.options_for(p.scene);
@@ -25,6 +37,21 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     p.checks = check_form_factors(p.ff);
     if (p.checks.closure_worst_patch >= 0)
         p.closure_worst_patch = p.geometry.patch_label(p.checks.closure_worst_patch);
+    if (p.checks.entries_over_tolerance > 0) {
+        p.worst_miss = p.geometry.patch_label(p.checks.worst_miss_i) + " -> " +
+                       p.geometry.patch_label(p.checks.worst_miss_j);
+        const std::string w = fmt::format(
+            "{} form-factor entr{} miss the tolerance {:.0e} ({} integral(s) stopped at their refinement "
+            "cap); "
+            "the worst, F[{}], has the estimate {:.2e}, {:.3g} times its target",
+            p.checks.entries_over_tolerance, p.checks.entries_over_tolerance == 1 ? "y" : "ies",
+            p.options.tolerance, p.ff.stats.capped, p.worst_miss, p.checks.worst_miss_estimate,
+            p.checks.worst_miss_ratio);
+        if (request.strict)
+            throw Error(FileLoc{scene_path, 0, 0}, w + "; set a looser form_factors tolerance, split the "
+                                                       "patches named, or run without --strict");
+        warn(w + "; the matrix is used as it is (--strict refuses it)");
+    }
     return p;
 }
 
@@ -41,6 +68,16 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     j["reciprocity_max_error"] = p.checks.reciprocity_max_error;
     j["min_entry"] = p.checks.min_entry;
     add_form_factor_checks(j, p.checks);
+    j["entries_over_tolerance"] = p.ff.error.empty() ? json(nullptr) : json(p.checks.entries_over_tolerance);
+    j["worst_entry_over_tolerance"] = p.worst_miss.empty()
+                                          ? json(nullptr)
+                                          : json{{"pair", p.worst_miss},
+                                                 {"estimate", p.checks.worst_miss_estimate},
+                                                 {"estimate_over_target", p.checks.worst_miss_ratio}};
+    json pairs = json::array();
+    for (const SurfaceIntersection& x : p.intersections)
+        pairs.push_back({p.geometry.surface_name(x.a), p.geometry.surface_name(x.b)});
+    j["surface_intersections"] = pairs;
     j["form_factor_stats"] = form_factor_stats_json(p.ff.stats);
     j["form_factor_cache"] = cache_outcome_json(p.cache);
 }

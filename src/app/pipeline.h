@@ -10,6 +10,7 @@
 #include "app/form_factor_request.h"
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
+#include "geometry/intersections.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "util/warnings.h"
@@ -26,8 +27,10 @@ struct Prepared {
     CacheOutcome cache;
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]", "" when none
-    double load_s = 0.0;              // reading the scene and building the geometry
-    double form_factors_s = 0.0;      // computing or loading the matrix
+    std::vector<SurfaceIntersection> intersections;
+    std::string worst_miss;       // "surface[is,it] -> surface[is,it]", "" when no entry misses
+    double load_s = 0.0;          // reading the scene and building the geometry
+    double form_factors_s = 0.0;  // computing or loading the matrix
 };
 
 // Reads the scene, builds its geometry, then (after `check_inputs`, which a command uses to

@@ -678,6 +678,20 @@ FormFactorChecks check_form_factors(const FormFactors& ff) {
                 const double e = ff.error[static_cast<std::size_t>(i) * n + j];
                 row_est += e;
                 c.max_error_estimate = std::max(c.max_error_estimate, e);
+                if (ff.options.method == FormFactorMethod::Adaptive) {
+                    const double target =
+                        ff.options.tolerance * std::min(ff.area[i], ff.area[j]) / ff.area[i];
+                    const double ratio = e / target;
+                    if (ratio > 1.0 + 1e-9) {
+                        ++c.entries_over_tolerance;
+                        if (ratio > c.worst_miss_ratio) {
+                            c.worst_miss_ratio = ratio;
+                            c.worst_miss_estimate = e;
+                            c.worst_miss_i = i;
+                            c.worst_miss_j = j;
+                        }
+                    }
+                }
                 if (j > i) {
                     const double est =
                         ff.area[i] * e + ff.area[j] * ff.error[static_cast<std::size_t>(j) * n + i];

@@ -143,6 +143,13 @@ struct FormFactorChecks {
     // Reciprocity only over pairs whose two directions were computed independently, relative
     // to their combined estimates: max |A_i F_ij - A_j F_ji| / (A_i e_ij + A_j e_ji).
     double reciprocity_vs_estimate = 0.0;
+    // Error-controlled matrices: entries whose estimate exceeds their target (tolerance x
+    // min(A_i, A_j) / A_i, see FormFactorOptions::tolerance), and the worst of them by
+    // estimate / target (-1: none).
+    long long entries_over_tolerance = 0;
+    double worst_miss_estimate = 0.0;
+    double worst_miss_ratio = 0.0;
+    int worst_miss_i = -1, worst_miss_j = -1;
 };
 
 FormFactorChecks check_form_factors(const FormFactors& ff);

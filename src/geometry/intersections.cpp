@@ -1,0 +1,142 @@
+#include "geometry/intersections.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include "geometry/scene_geometry.h"
+
+namespace radiosa {
+
+namespace {
+
+// The shape of a surface as far as this check knows it.
+struct Shape {
+    std::optional<std::array<Vec3, 4>> polygon;  // a planar convex quad
+    std::optional<BoundingSphere> sphere;        // a whole sphere
+};
+
+Shape shape_of(const Surface& s) {
+    Shape sh;
+    if (s.plane() && s.patches_are_polygons())
+        sh.polygon = std::array<Vec3, 4>{s.point(0, 0), s.point(1, 0), s.point(1, 1), s.point(0, 1)};
+    else if (s.sphere())
+        sh.sphere = s.sphere();
+    return sh;
+}
+
+Vec3 normal_of(const std::array<Vec3, 4>& v) {
+    Vec3 m(0.0);
+    for (int k = 0; k < 4; ++k) m += glm::cross(v[k], v[(k + 1) % 4]);
+    return glm::normalize(m);
+}
+
+// The open interval, along the line `dir`, where the polygon's interior crosses the plane
+// (n, o): empty unless the polygon has corners strictly on both sides.
+std::optional<std::pair<double, double>> crossing(const std::array<Vec3, 4>& v, const Vec3& n, const Vec3& o,
+                                                  const Vec3& dir, double eps) {
+    std::array<double, 4> d;
+    bool above = false, below = false;
+    for (int k = 0; k < 4; ++k) {
+        d[k] = glm::dot(n, v[k] - o);
+        above = above || d[k] > eps;
+        below = below || d[k] < -eps;
+    }
+    if (!above || !below) return std::nullopt;
+    double lo = INFINITY, hi = -INFINITY;
+    for (int k = 0; k < 4; ++k) {
+        const int l = (k + 1) % 4;
+        const bool spans = (d[k] <= 0.0 && d[l] >= 0.0) || (d[k] >= 0.0 && d[l] <= 0.0);
+        if (!spans || d[k] == d[l]) continue;
+        const Vec3 p = v[k] + (v[l] - v[k]) * (d[k] / (d[k] - d[l]));
+        const double u = glm::dot(p, dir);
+        lo = std::min(lo, u);
+        hi = std::max(hi, u);
+    }
+    return std::make_pair(lo, hi);
+}
+
+bool polygons_cross(const std::array<Vec3, 4>& a, const std::array<Vec3, 4>& b, double eps) {
+    const Vec3 na = normal_of(a), nb = normal_of(b);
+    const Vec3 dir = glm::cross(na, nb);
+    const double len = glm::length(dir);
+    if (len < 1e-12) return false;  // parallel or coplanar: not a crossing (coplanar overlap is not checked)
+    const auto ia = crossing(a, nb, b[0], dir / len, eps), ib = crossing(b, na, a[0], dir / len, eps);
+    if (!ia || !ib) return false;
+    return std::min(ia->second, ib->second) - std::max(ia->first, ib->first) > eps;
+}
+
+double distance_to_segment(const Vec3& x, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(x - (a + t * ab));
+}
+
+bool sphere_crosses_polygon(const BoundingSphere& s, const std::array<Vec3, 4>& v, double eps) {
+    const Vec3 n = normal_of(v);
+    const double h = glm::dot(s.center - v[0], n);
+    const Vec3 p = s.center - h * n;
+    bool inside = true;
+    for (int k = 0; k < 4 && inside; ++k)
+        inside = glm::dot(glm::cross(v[(k + 1) % 4] - v[k], p - v[k]), n) >= 0.0;
+    double nearest = std::abs(h);
+    if (!inside) {
+        nearest = INFINITY;
+        for (int k = 0; k < 4; ++k)
+            nearest = std::min(nearest, distance_to_segment(s.center, v[k], v[(k + 1) % 4]));
+    }
+    double farthest = 0.0;
+    for (const Vec3& c : v) farthest = std::max(farthest, glm::length(c - s.center));
+    return nearest < s.radius - eps && farthest > s.radius + eps;
+}
+
+bool spheres_cross(const BoundingSphere& a, const BoundingSphere& b, double eps) {
+    const double d = glm::length(a.center - b.center);
+    return d < a.radius + b.radius - eps && d > std::abs(a.radius - b.radius) + eps;
+}
+
+}  // namespace
+
+std::vector<SurfaceIntersection> find_intersections(const SceneGeometry& g) {
+    std::vector<SurfaceIntersection> out;
+    const double eps = 1e-9 * g.scale();
+    std::vector<Shape> shapes;
+    for (int k = 0; k < g.surface_count(); ++k) shapes.push_back(shape_of(g.surface(k)));
+    for (int a = 0; a < g.surface_count(); ++a)
+        for (int b = a + 1; b < g.surface_count(); ++b) {
+            const Shape &sa = shapes[a], &sb = shapes[b];
+            bool cross = false;
+            if (sa.polygon && sb.polygon)
+                cross = polygons_cross(*sa.polygon, *sb.polygon, eps);
+            else if (sa.sphere && sb.polygon)
+                cross = sphere_crosses_polygon(*sa.sphere, *sb.polygon, eps);
+            else if (sa.polygon && sb.sphere)
+                cross = sphere_crosses_polygon(*sb.sphere, *sa.polygon, eps);
+            else if (sa.sphere && sb.sphere)
+                cross = spheres_cross(*sa.sphere, *sb.sphere, eps);
+            if (cross) out.push_back({a, b});
+        }
+    return out;
+}
+
+std::string intersection_names(const SceneGeometry& g, const std::vector<SurfaceIntersection>& found) {
+    std::string names;
+    for (const SurfaceIntersection& x : found)
+        names += fmt::format("{}'{}' and '{}'", names.empty() ? "" : ", ", g.surface_name(x.a),
+                             g.surface_name(x.b));
+    return names;
+}
+
+std::string intersection_warning(const SceneGeometry& g, const std::vector<SurfaceIntersection>& found) {
+    return fmt::format(
+        "surfaces intersect: {}. The parts of one inside the other still exchange light through it, so "
+        "closure and the energy balance are not to be trusted and light leaks into the image; move the "
+        "surfaces apart (touching along an edge is fine), or add --strict to refuse such scenes",
+        intersection_names(g, found));
+}
+
+}  // namespace radiosa
