@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace radiosa {
 
 nlohmann::json cache_outcome_json(const CacheOutcome& c) {
@@ -79,6 +81,23 @@ std::string cache_outcome_summary(const CacheOutcome& c) {
             return s;
     }
     return s;
+}
+
+nlohmann::json error_bound_json(const std::optional<Rgb>& bound) {
+    using nlohmann::json;
+    if (!bound) return nullptr;
+    json a = json::array();
+    for (int c = 0; c < 3; ++c) a.push_back(std::isfinite((*bound)[c]) ? json((*bound)[c]) : json(nullptr));
+    return a;
+}
+
+std::string error_bound_summary(const std::optional<Rgb>& bound) {
+    if (!bound) return "";
+    auto one = [](double x) {
+        return std::isfinite(x) ? fmt::format("{:.1e}", x) : std::string("none proven");
+    };
+    return fmt::format("  radiosity error bound max |B - B*| / max B: r {}, g {}, b {}\n", one(bound->r),
+                       one(bound->g), one(bound->b));
 }
 
 }  // namespace radiosa

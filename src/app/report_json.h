@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 // Pieces of the JSON run report shared by the commands that write one.
 #include <nlohmann/json.hpp>
 #include <string>
@@ -31,5 +32,10 @@ void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);
 nlohmann::json solve_json(SolverMethod method, const StabilitySummary& stability, double residual);
 // Adds max_error_estimate, max_row_error_estimate, reciprocity_abs_error, reciprocity_vs_estimate.
 void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c);
+// radiosity_error_bound: [r, g, b], a channel null where no bound could be proven, null as a
+// whole when the form factors carry no estimates (the fixed rule).
+nlohmann::json error_bound_json(const std::optional<Rgb>& bound);
+// "  radiosity error bound max |B - B*| / max B: r 1.2e-06, g ..., b ...\n", or "".
+std::string error_bound_summary(const std::optional<Rgb>& bound);
 
 }  // namespace radiosa

@@ -202,6 +202,15 @@ private:
             m_p.ff.F, m_p.ff.area, {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
             m_solutions[fp.solution]);
         m_r->residual = std::max(m_r->residual, d.residual);
+        if (!m_p.ff.error.empty()) {
+            const Rgb b = radiosity_error_bound(
+                solver, m_p.ff.F, m_p.ff.error,
+                {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
+                m_solutions[fp.solution]);
+            if (!m_r->radiosity_error_bound) m_r->radiosity_error_bound = Rgb(0.0);
+            for (int c = 0; c < 3; ++c)
+                (*m_r->radiosity_error_bound)[c] = std::max((*m_r->radiosity_error_bound)[c], b[c]);
+        }
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
     }
@@ -330,6 +339,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
         {r.factorisations, 3 * r.reflectance_sets, r.channel_solves, 3 * r.substitutions, false});
     j["solve"] = solve_json(job.solver, r.stability, r.residual);
     j["solve"]["energy_balance_error"] = r.prep->scene.closed ? json(r.energy_balance_error) : json(nullptr);
+    j["radiosity_error_bound"] = error_bound_json(r.radiosity_error_bound);
     j["totals"] = {{"load_s", r.load_s},
                    {"form_factors_s", r.form_factors_s},
                    {"solve_s", r.solve_s},
@@ -389,6 +399,7 @@ std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
             "dB, popularity {:.2f} dB\n",
             "palette", r.palette.seconds, r.palette.colours, quantiser_name(job.quantiser),
             r.palette.psnr_median_cut_db, r.palette.psnr_popularity_db);
+    s += error_bound_summary(r.radiosity_error_bound);
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

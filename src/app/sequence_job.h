@@ -55,6 +55,9 @@ struct SequenceReport {
     // and energy balance (closed scenes).
     StabilitySummary stability;
     double residual = 0.0, energy_balance_error = 0.0;
+    // The worst radiosity error bound per channel over every solution (solver.h); empty when the
+    // form factors carry no estimates.
+    std::optional<Rgb> radiosity_error_bound;
     std::vector<FrameRecord> frames;
     struct PaletteResult {
         int colours = 0;

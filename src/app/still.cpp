@@ -32,6 +32,10 @@ std::vector<Rgb> solve_still(const StillJob& job, const Prepared& p, const Mater
         r->factorisations = solver.factorisations();
         r->channel_solves = solver.last_channel_solves();
         r->iterations = solver.last_iterations();
+        if (!p.ff.error.empty())
+            r->radiosity_error_bound = radiosity_error_bound(solver, p.ff.F, p.ff.error, mat, B);
+    } else if (!p.ff.error.empty()) {
+        r->radiosity_error_bound = Rgb(0.0);
     }
     r->solve = diagnose_solution(p.ff.F, p.ff.area, mat, B);
     return B;
@@ -90,6 +94,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
                     {"write_s", r.times.write_s}, {"total_s", r.times.total_s}};
     // Energy balance only means something for a closed scene.
     j["energy_balance_error"] = r.prep.scene.closed ? json(r.solve.energy_balance_error) : json(nullptr);
+    j["radiosity_error_bound"] = error_bound_json(r.radiosity_error_bound);
     j["left_out"] =
         left_out_json(r.prep.options, r.prep.ff.stats, {r.factorisations, 3, r.channel_solves, 3, r.dark});
     json& solve = j["solve"] = solve_json(job.solver, r.stability, r.solve.residual);
@@ -118,6 +123,7 @@ std::string still_summary(const StillJob& job, const StillReport& r) {
     if (p.scene.closed)
         s += fmt::format("  energy balance |emitted - absorbed| / emitted = {:.2e}\n",
                          r.solve.energy_balance_error);
+    s += error_bound_summary(r.radiosity_error_bound);
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

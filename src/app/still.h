@@ -40,6 +40,8 @@ struct StillReport {
     int iterations = 0;          // iterative solvers: sweeps needed
     StabilitySummary stability;  // spectral radius of rho F and LU condition, max over channels
     SolveDiagnostics solve;
+    // max |B - B*| / max B per channel (solver.h); empty when the form factors carry no estimates
+    std::optional<Rgb> radiosity_error_bound;
     StageTimes times;
 };
 

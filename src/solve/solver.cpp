@@ -369,4 +369,38 @@ SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<doubl
     return d;
 }
 
+Rgb radiosity_error_bound(const RadiositySolver& solver, const DenseMatrix& F,
+                          const std::vector<double>& error, const Materials& m, const std::vector<Rgb>& B) {
+    const int n = F.n;
+    const std::vector<Rgb> v = solver.solve(std::vector<Rgb>(static_cast<std::size_t>(n), Rgb(1.0)));
+    Rgb bound(0.0);
+    for (int c = 0; c < 3; ++c) {
+        double max_b = 0.0;
+        for (int i = 0; i < n; ++i) max_b = std::max(max_b, std::abs(B[i][c]));
+        if (!(max_b > 0.0)) continue;
+        double q = 0.0, r_over_v = 0.0, v_max = 0.0;
+        bool positive = true;
+        for (int i = 0; i < n && positive; ++i) {
+            const double vi = v[i][c];
+            positive = vi > 0.0 && std::isfinite(vi);
+            double mv = 0.0, eb = 0.0, fb = 0.0;
+            for (int j = 0; j < n; ++j) {
+                const double e = error[static_cast<std::size_t>(i) * n + j];
+                mv += (F(i, j) + e) * v[j][c];
+                eb += e * std::abs(B[j][c]);
+                fb += F(i, j) * B[j][c];
+            }
+            const double rho = m.rho[i][c];
+            const double r = std::abs(B[i][c] - rho * fb - m.E[i][c]) + rho * eb;
+            // Rounding in the products above, so that q is not understated.
+            q = std::max(q, rho * mv * (1.0 + 4.0 * n * std::numeric_limits<double>::epsilon()) / vi);
+            r_over_v = std::max(r_over_v, r / vi);
+            v_max = std::max(v_max, vi);
+        }
+        bound[c] = positive && q < 1.0 ? r_over_v / (1.0 - q) * v_max / max_b
+                                       : std::numeric_limits<double>::infinity();
+    }
+    return bound;
+}
+
 }  // namespace radiosa

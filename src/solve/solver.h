@@ -87,6 +87,15 @@ struct SolveDiagnostics {
     Rgb absorbed_power{0.0};
 };
 
+// An a-posteriori bound on the radiosity's error, per channel: max_i |B_i - B*_i| / max_i B_i,
+// B* the solution with the exact form factors, given per-entry bounds |F_ij - F*_ij| <= error_ij
+// (the form-factor estimates; FormFactors::error). With r_i = |residual_i| + rho_i sum_j
+// error_ij |B_j| and v = (I - rho F)^-1 1 from the solver, if rho (F + error) v <= q v with q < 1
+// then |B - B*| <= max_i (r_i / v_i) / (1 - q) * v. Infinity for a channel where no q < 1 is
+// found (the system is too close to singular for the estimates); 0 for a dark channel.
+Rgb radiosity_error_bound(const RadiositySolver& solver, const DenseMatrix& F,
+                          const std::vector<double>& error, const Materials& m, const std::vector<Rgb>& B);
+
 SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area, const Materials& m,
                                    const std::vector<Rgb>& B);
 

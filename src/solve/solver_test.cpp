@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -94,6 +96,72 @@ TEST(Solver, PatchEmissionOverridesTheSurface) {
 TEST(Solver, UnknownSolverNameIsAnError) {
     EXPECT_EQ(parse_solver_method("gauss-jordan"), SolverMethod::GaussJordan);
     EXPECT_THROW(parse_solver_method("cholesky"), Error);
+}
+
+}  // namespace radiosa
+
+namespace radiosa {
+
+// The bound holds whatever the form-factor errors are, as long as each stays within its
+// estimate: random closed systems, reflectances up to 0.999, errors drawn inside the estimates.
+TEST(ErrorBound, CoversTheTrueErrorForEveryPerturbationWithinTheEstimates) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int trial = 0; trial < 60; ++trial) {
+        const int n = 6;
+        const double rho_max = trial % 3 == 0 ? 0.999 : 0.9;
+        // Exact F: random rows summing to 1 (a closed scene).
+        DenseMatrix exact(n);
+        for (int i = 0; i < n; ++i) {
+            double row = 0.0;
+            for (int j = 0; j < n; ++j) row += exact(i, j) = u(rng);
+            for (int j = 0; j < n; ++j) exact(i, j) /= row;
+        }
+        std::vector<double> est(static_cast<std::size_t>(n) * n);
+        DenseMatrix computed(n);
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                const double e = 1e-4 * u(rng) * exact(i, j);
+                est[static_cast<std::size_t>(i) * n + j] = e;
+                computed(i, j) = exact(i, j) + e * (2.0 * u(rng) - 1.0);
+            }
+        Materials m;
+        for (int i = 0; i < n; ++i) {
+            m.rho.push_back(Rgb(rho_max * u(rng), rho_max, 0.5));
+            m.E.push_back(Rgb(i == 0 ? 1.0 : 0.0, u(rng), 0.0));
+        }
+        const RadiositySolver approx(computed, m.rho, SolverMethod::LU);
+        const std::vector<Rgb> B = approx.solve(m.E);
+        const std::vector<Rgb> B_exact = RadiositySolver(exact, m.rho, SolverMethod::LU).solve(m.E);
+        const Rgb bound = radiosity_error_bound(approx, computed, est, m, B);
+        for (int c = 0; c < 3; ++c) {
+            double max_b = 0.0, max_err = 0.0;
+            for (int i = 0; i < n; ++i) {
+                max_b = std::max(max_b, std::abs(B[i][c]));
+                max_err = std::max(max_err, std::abs(B[i][c] - B_exact[i][c]));
+            }
+            if (max_b == 0.0) {
+                EXPECT_EQ(bound[c], 0.0);
+                continue;
+            }
+            ASSERT_TRUE(std::isfinite(bound[c])) << "trial " << trial << " channel " << c;
+            EXPECT_LE(max_err / max_b, bound[c]) << "trial " << trial << " channel " << c;
+            // Not vacuous: within 1000x of the truth and far below 1 here.
+            EXPECT_LT(bound[c], 1000.0 * std::max(max_err / max_b, 1e-13))
+                << "trial " << trial << " channel " << c;
+        }
+    }
+}
+
+TEST(ErrorBound, ExactFormFactorsGiveABoundAtRoundOff) {
+    const Scene s = furnace(0.9, 1.0);
+    const FormFactors ff = compute_form_factors(SceneGeometry(s), FormFactorOptions::adaptive(1e-6));
+    const Materials m = patch_materials(s);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    const Rgb b = radiosity_error_bound(solver, ff.F, ff.error, m, solver.solve(m.E));
+    EXPECT_LT(b.r, 1e-12);
+    EXPECT_LT(b.g, 1e-12);
+    EXPECT_EQ(b.b, 0.0);  // dark channel
 }
 
 }  // namespace radiosa
