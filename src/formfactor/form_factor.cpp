@@ -16,6 +16,7 @@
 #include "formfactor/polygon_polygon.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
+#include "util/convex_distance.h"
 #include "util/gauss_legendre.h"
 #include "util/stopwatch.h"
 
@@ -98,6 +99,24 @@ public:
         return false;
     }
 
+    // True when surface s provably keeps clear of every segment between the two polygon
+    // patches: those segments fill the convex hull of their 8 corners, and a sphere farther
+    // from it than its radius, or a planar convex polygon at a positive distance, meets none.
+    bool hull_misses(const Patch& pi, const Patch& pj, const Surface& s) const {
+        const std::array<Vec3, 8> hull = {pi.corners[0], pi.corners[1], pi.corners[2], pi.corners[3],
+                                          pj.corners[0], pj.corners[1], pj.corners[2], pj.corners[3]};
+        if (const auto sph = s.sphere()) {
+            const std::array<Vec3, 1> c = {sph->center};
+            const double margin = sph->radius + m_eps;
+            return convex_distance(hull, c, margin) > margin;
+        }
+        if (s.plane() && s.patches_are_polygons()) {
+            const std::array<Vec3, 4> q = {s.point(0, 0), s.point(1, 0), s.point(1, 1), s.point(0, 1)};
+            return convex_distance(hull, q, m_eps) > m_eps;
+        }
+        return false;
+    }
+
     // Surfaces that might block a segment between the two patches; the rest are proven
     // unable to and skip the per-point tests.
     void occluders(int i, int j, std::vector<int>* out, FormFactorStats* st) const {
@@ -133,6 +152,7 @@ public:
                 if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach)
                     can_block = false;
             }
+            if (can_block && pi.polygon && pj.polygon && !on_i && !on_j) can_block = !hull_misses(pi, pj, s);
             if (can_block)
                 out->push_back(k);
             else
@@ -227,9 +247,10 @@ struct Estimate {
 // the coarse value's error and the disagreement of the two refinements), and the direction
 // with the larger change is where the integrand varies most: the region is
 // split there, so a feature along a line (an edge the other patch touches or nearly touches)
-// is followed by thin strips, not by squares. `geometric(r)` may demand a split direction (0
-// or 1) regardless of the estimate, when the region is large compared to its distance from a
-// near-singularity that no Gauss node of it would see; -1 otherwise. Regions are split until
+// is followed by thin strips, not by squares. `geometric(r, fine)` may demand a split direction
+// (0 or 1) regardless of the estimate, when the region is large compared to its distance from a
+// near-singularity that no Gauss node of it would see, or when geometry proves a feature inside
+// it that its nodes (whose sum is `fine`) all missed; -1 otherwise. Regions are split until
 // no split is demanded and the estimates sum to at most `tol`, or `max_regions` is reached.
 // Nested-rule estimates can be fooled where the integrand is only once differentiable (a
 // shadow's edge sweeping across a patch, a hair-thin gap); measured on the configurations of
@@ -265,7 +286,7 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
             h[d] = {gauss(hv[0]), gauss(hv[1])};
             e[d] = std::abs(h[d][0] + h[d][1] - coarse);
         }
-        const int forced = geometric(r);
+        const int forced = geometric(r, h[0][0] + h[0][1]);
         reg.forced = forced >= 0;
         reg.dir = reg.forced ? forced : (e[1] > e[0] ? 1 : 0);
         reg.half = h[reg.dir];
@@ -378,8 +399,11 @@ public:
         if (!sph || blockers[0] == m_geo.patch(i).surface) return false;
         const auto plane = m_geo.surface(pj.surface).plane();
         const Patch& pi = m_geo.patch(i);
-        if (!plane || plane->signed_distance(sph->center) < sph->radius ||
-            glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
+        if (!plane || plane->signed_distance(sph->center) < sph->radius) return false;
+        // Every point of patch i must lie outside the sphere: exactly for a polygon, by its
+        // bounding sphere otherwise.
+        if (pi.polygon ? distance_to_polygon(sph->center, polygon(i)) <= sph->radius
+                       : glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
             return false;
         *blocker = *sph;
         return true;
@@ -390,6 +414,7 @@ public:
     // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const std::optional<BoundingSphere>& blocker, double tol) const {
+        if (blocker && m_geo.patch(i).polygon) return area_times_f_shadowed(i, j, *blocker, tol);
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> v = polygon(j);
@@ -404,7 +429,7 @@ public:
         // between its Gauss nodes (patches a hair apart): split it along the direction in which
         // that distance changes most, until it is no larger than the distance. Touching
         // patches (distance 0) are left to the error estimate: their integrand is bounded.
-        auto geometric = [&](const Rect& r) {
+        auto geometric = [&](const Rect& r, double) {
             // A shadow's edge makes the integrand only once differentiable where it sweeps
             // across the patch; nested estimates on the whole patch can miss that, so shadowed
             // pairs start from quarters.
@@ -428,6 +453,54 @@ public:
         return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1},
                              tol * std::min(pi.area, m_geo.patch(j).area), kMaxOuterRegions, m_outer,
                              geometric);
+    }
+
+    // A_i F_ij for two polygons with a sphere between them: the unblocked exchange in closed
+    // form (the contour integral) minus the shadow, integrated over patch i with the shadow's
+    // inner integral in closed form. The shadow's integrand is free of the near-singularities
+    // of patches that touch or nearly touch (those are in the closed form), so what is left
+    // to the cubature is smooth except where the sphere's outline meets the polygon's edges.
+    Estimate area_times_f_shadowed(int i, int j, const BoundingSphere& blocker, double tol) const {
+        const Patch& pi = m_geo.patch(i);
+        const Surface& si = m_geo.surface(pi.surface);
+        const std::array<Vec3, 4> vi = polygon(i), vj = polygon(j);
+        const PolygonPair open = polygon_to_polygon(vi.data(), 4, vj.data(), 4);
+        const Vec3 n = si.normal(0.5 * (pi.s0 + pi.s1), 0.5 * (pi.t0 + pi.t1));
+        const Vec3 unit = glm::normalize(n);
+        auto g = [&](double s, double t) {
+            const double da = glm::length(si.normal(s, t));
+            return da * point_to_polygon_blocked(si.point(s, t), unit, vj.data(), 4, blocker);
+        };
+        // A shadow's edge makes the integrand only once differentiable where it sweeps across
+        // the patch; nested estimates on the whole patch can miss that, so start from quarters.
+        // A region whose nodes all see no shadow although some segment from it to patch j
+        // meets the sphere (the hull of the region and j reaches the sphere) holds a sliver of
+        // penumbra between its nodes: split it until they see it (down to 1e-6 of the patch).
+        const double s_len = glm::length(si.point(pi.s1, pi.t0) - si.point(pi.s0, pi.t0)),
+                     t_len = glm::length(si.point(pi.s0, pi.t1) - si.point(pi.s0, pi.t0));
+        auto quarters = [&](const Rect& r, double fine) {
+            const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
+            if (ws > 0.5 * (1 + 1e-12)) return 0;
+            if (wt > 0.5 * (1 + 1e-12)) return 1;
+            if (fine != 0.0 || std::max(ws, wt) < 1e-6) return -1;
+            const std::array<Vec3, 8> hull = {si.point(r.s0, r.t0),
+                                              si.point(r.s1, r.t0),
+                                              si.point(r.s1, r.t1),
+                                              si.point(r.s0, r.t1),
+                                              vj[0],
+                                              vj[1],
+                                              vj[2],
+                                              vj[3]};
+            const std::array<Vec3, 1> c = {blocker.center};
+            if (convex_distance(hull, c, blocker.radius) > blocker.radius) return -1;
+            return ws * s_len >= wt * t_len ? 0 : 1;
+        };
+        Estimate shadow = adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1},
+                                        tol * std::min(pi.area, m_geo.patch(j).area) - open.error,
+                                        kMaxOuterRegions, m_outer, quarters);
+        shadow.value = std::max(0.0, open.value - shadow.value);
+        shadow.error += open.error;
+        return shadow;
     }
 
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
@@ -483,7 +556,7 @@ public:
         };
         Estimate e =
             adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * std::min(pi.area, pj.area),
-                          kMaxNumericRegions, m_outer, [](const Rect&) { return -1; });
+                          kMaxNumericRegions, m_outer, [](const Rect&, double) { return -1; });
         e.error += inner_err * pi.area;
         st->segment_tests += tests;
         return e;

@@ -95,57 +95,82 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
     return blocked;
 }
 
+// The polygon as seen from x: its front part's vertex directions w, the unit normals u of
+// its edges' great circles, their angles, and Lambert's integral over it (2 pi times the
+// unblocked form factor).
+struct SphericalPolygon {
+    std::array<Vec3, kMaxVerts> w, u;
+    std::array<double, kMaxVerts> gamma{};
+    int nc = 0;
+    double whole = 0.0;
+};
+
+// False when x sees nothing of the polygon (behind it, or the polygon behind x).
+bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPolygon* sp) {
+    // Front side of the polygon (Newell normal, robust for any planar polygon).
+    Vec3 m(0.0);
+    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
+    if (glm::dot(m, x - v[0]) <= 0.0) return false;
+
+    std::array<Vec3, kMaxVerts> clipped;
+    sp->nc = clip_to_front(x, n, v, count, &clipped);
+    if (sp->nc < 3) return false;
+    for (int k = 0; k < sp->nc; ++k) sp->w[k] = unit_or_zero(clipped[k] - x);
+
+    // Lambert: sum over edges of (arc angle) * n . (unit normal of the arc's great circle).
+    sp->whole = 0.0;
+    for (int k = 0; k < sp->nc; ++k) {
+        const Vec3& a = sp->w[k];
+        const Vec3& b = sp->w[(k + 1) % sp->nc];
+        sp->u[k] = unit_or_zero(glm::cross(a, b));
+        sp->gamma[k] = angle_between(a, b);
+        sp->whole += sp->gamma[k] * glm::dot(n, sp->u[k]);
+    }
+    return true;
+}
+
+// Lambert's integral over the part of the spherical polygon inside the blocker's cone (a cap
+// around d with half-angle alpha): 2 pi times the form factor the blocker takes away.
+double blocked_part(const SphericalPolygon& sp, const Vec3& x, const Vec3& n, const BoundingSphere& blocker) {
+    const Vec3 to_c = blocker.center - x;
+    const double dist = glm::length(to_c);
+    if (!(dist > blocker.radius)) return 0.0;
+    const Vec3 d = to_c / dist;
+    const double sin_a = blocker.radius / dist, cos_a = std::sqrt(std::max(0.0, 1.0 - sin_a * sin_a));
+    // Quick answers: the cap wholly outside one edge's great circle (nothing blocked), or
+    // wholly inside all of them (the whole cap, sin^2(alpha) n . d).
+    bool inside_all = true;
+    for (int k = 0; k < sp.nc; ++k) {
+        const double side = glm::dot(d, sp.u[k]);
+        if (side <= -sin_a) return 0.0;
+        inside_all = inside_all && side >= sin_a;
+    }
+    if (inside_all) return 2.0 * kPi * sin_a * sin_a * glm::dot(n, d);
+    double blocked = 0.0;
+    // (1) polygon edges inside the cap.
+    for (int k = 0; k < sp.nc; ++k)
+        blocked +=
+            arc_inside_cap(sp.w[k], sp.w[(k + 1) % sp.nc], sp.gamma[k], d, cos_a) * glm::dot(n, sp.u[k]);
+    // (2) arcs of the cap's circle inside the polygon.
+    return add_cap_circle_inside(blocked, sp.w, sp.nc, n, d, sin_a, cos_a);
+}
+
 }  // namespace
 
 double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                         const BoundingSphere* blocker) {
-    // Front side of the polygon (Newell normal, robust for any planar polygon).
-    Vec3 m(0.0);
-    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
-    if (glm::dot(m, x - v[0]) <= 0.0) return 0.0;
+    SphericalPolygon sp;
+    if (!project(x, n, v, count, &sp)) return 0.0;
+    const double blocked = blocker ? blocked_part(sp, x, n, *blocker) : 0.0;
+    return std::max(0.0, (sp.whole - blocked) / (2.0 * kPi));
+}
 
-    std::array<Vec3, kMaxVerts> clipped;
-    const int nc = clip_to_front(x, n, v, count, &clipped);
-    if (nc < 3) return 0.0;
-
-    std::array<Vec3, kMaxVerts> w;
-    for (int k = 0; k < nc; ++k) w[k] = unit_or_zero(clipped[k] - x);
-
-    // Lambert: sum over edges of (arc angle) * n . (unit normal of the arc's great circle).
-    std::array<double, kMaxVerts> gamma{};
-    std::array<Vec3, kMaxVerts> u;
-    double whole = 0.0;
-    for (int k = 0; k < nc; ++k) {
-        const Vec3& a = w[k];
-        const Vec3& b = w[(k + 1) % nc];
-        u[k] = unit_or_zero(glm::cross(a, b));
-        gamma[k] = angle_between(a, b);
-        whole += gamma[k] * glm::dot(n, u[k]);
-    }
-    if (!blocker) return std::max(0.0, whole / (2.0 * kPi));
-
-    // Minus the directions inside the blocker's cone: cap around d with half-angle alpha.
-    const Vec3 to_c = blocker->center - x;
-    const double dist = glm::length(to_c);
-    if (!(dist > blocker->radius)) return std::max(0.0, whole / (2.0 * kPi));
-    const Vec3 d = to_c / dist;
-    const double sin_a = blocker->radius / dist, cos_a = std::sqrt(std::max(0.0, 1.0 - sin_a * sin_a));
-    // Quick answers: the cap wholly outside one edge's great circle (nothing blocked), or
-    // wholly inside all of them (the whole cap, sin^2(alpha) n . d).
-    bool inside_all = true;
-    for (int k = 0; k < nc; ++k) {
-        const double side = glm::dot(d, u[k]);
-        if (side <= -sin_a) return std::max(0.0, whole / (2.0 * kPi));
-        inside_all = inside_all && side >= sin_a;
-    }
-    if (inside_all) return std::max(0.0, (whole - 2.0 * kPi * sin_a * sin_a * glm::dot(n, d)) / (2.0 * kPi));
-    double blocked = 0.0;
-    // (1) polygon edges inside the cap.
-    for (int k = 0; k < nc; ++k)
-        blocked += arc_inside_cap(w[k], w[(k + 1) % nc], gamma[k], d, cos_a) * glm::dot(n, u[k]);
-    // (2) arcs of the cap's circle inside the polygon.
-    blocked = add_cap_circle_inside(blocked, w, nc, n, d, sin_a, cos_a);
-    return std::max(0.0, (whole - blocked) / (2.0 * kPi));
+double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                const BoundingSphere& blocker) {
+    SphericalPolygon sp;
+    if (!project(x, n, v, count, &sp)) return 0.0;
+    return std::clamp(blocked_part(sp, x, n, blocker) / (2.0 * kPi), 0.0,
+                      std::max(0.0, sp.whole / (2.0 * kPi)));
 }
 
 }  // namespace radiosa

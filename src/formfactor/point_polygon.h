@@ -17,4 +17,9 @@ namespace radiosa {
 double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                         const BoundingSphere* blocker);
 
+// The part of that form factor the blocker takes away: point_to_polygon(..., nullptr) minus
+// point_to_polygon(..., &blocker), computed on its own (no cancellation), in [0, unblocked].
+double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                const BoundingSphere& blocker);
+
 }  // namespace radiosa
