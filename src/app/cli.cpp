@@ -50,6 +50,11 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
         "--no-culling", [culling] { *culling = false; },
         "Integrate every pair and test every surface as an occluder, without the cache: "
         "measures what culling saves");
+    cmd->add_option("--solve-tolerance", req->solve_tolerance,
+                    "Target on the radiosity: max |B - B*| / max B per channel; the form-factor tolerance is "
+                    "tightened until the bound meets it (overrides the scene's solve: tolerance)")
+        ->check(CLI::Range(1e-12, 0.1))
+        ->excludes(p);
     cmd->add_flag("--strict", req->strict,
                   "Refuse (exit 1, no output) a scene whose surfaces intersect or a matrix with any entry "
                   "whose error estimate misses its tolerance, instead of warning");

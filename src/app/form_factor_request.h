@@ -17,6 +17,7 @@ struct FormFactorRequest {
     bool culling = true;              // --no-culling (a diagnostic; bypasses the cache)
     CacheSettings cache;              // --cache-dir, --no-cache
     bool strict = false;              // --strict: intersecting surfaces and missed tolerances are errors
+    std::optional<double> solve_tolerance;  // --solve-tolerance: overrides the scene's solve: tolerance
 
     FormFactorOptions options_for(const Scene& scene) const {
         FormFactorOptions o =

@@ -4,13 +4,58 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "app/report_json.h"
+#include "solve/solver.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
 
 namespace radiosa {
+
+namespace {
+
+// The largest radiosity error bound over the channels, for the scene's own lights and colours.
+double scene_error_bound(const Prepared& p) {
+    const Materials mat = patch_materials(p.scene);
+    if (std::all_of(mat.E.begin(), mat.E.end(), [](const Rgb& e) { return e == Rgb(0.0); })) return 0.0;
+    const RadiositySolver solver(p.ff.F, mat.rho, SolverMethod::LU);
+    const Rgb b = radiosity_error_bound(solver, p.ff.F, p.ff.error, mat, solver.solve(mat.E));
+    return std::max({b.r, b.g, b.b});
+}
+
+// Tightens the form-factor tolerance until the radiosity error bound meets `target`: each round
+// scales the tolerance by half the ratio of target to bound (at most 1000-fold at once), down to
+// kMinFormFactorTolerance; matrices come from the cache like any other.
+void meet_solve_target(Prepared* p, double target, const FormFactorRequest& request,
+                       const WarningSink& warn) {
+    if (p->options.method != FormFactorMethod::Adaptive)
+        throw Error(
+            p->scene.solve.tolerance ? p->scene.solve_loc : FileLoc{p->scene.file, 0, 0},
+            "a solve tolerance needs error-controlled form factors (their estimates bound the error); "
+            "drop --gauss-points or form_factors: gauss_points");
+    Prepared::SolveTarget t{target, 0.0, false, 1};
+    for (;; ++t.rounds) {
+        t.bound = scene_error_bound(*p);
+        t.reached = t.bound <= target;
+        if (t.reached || p->options.tolerance <= kMinFormFactorTolerance) break;
+        const double factor = std::isfinite(t.bound) ? std::clamp(0.5 * target / t.bound, 1e-3, 0.5) : 1e-3;
+        p->options.tolerance = std::max(kMinFormFactorTolerance, p->options.tolerance * factor);
+        p->ff = obtain_form_factors(p->scene, p->geometry, p->options, request.cache, warn, &p->cache);
+    }
+    p->solve_target = t;
+    if (t.reached) return;
+    const std::string w = fmt::format(
+        "the solve tolerance {:.0e} is out of reach: at form-factor tolerance {:.0e} the radiosity error "
+        "bound is {:.2e}; the scene is too stiff (reflectances near 1) for the estimates",
+        target, p->options.tolerance, t.bound);
+    if (request.strict) throw Error(FileLoc{p->scene.file, 0, 0}, w + "; loosen it or run without --strict");
+    warn(w);
+}
+
+}  // namespace
 
 Prepared prepare(const std::string& scene_path, const FormFactorRequest& request, const WarningSink& warn,
                  const std::function<void(const Prepared&)>& check_inputs) {
@@ -33,6 +78,8 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     p.options = request.options_for(p.scene);
     clock = Stopwatch();
     p.ff = obtain_form_factors(p.scene, p.geometry, p.options, request.cache, warn, &p.cache);
+    if (const auto target = request.solve_tolerance ? request.solve_tolerance : p.scene.solve.tolerance)
+        meet_solve_target(&p, *target, request, warn);
     p.form_factors_s = clock.seconds();
     p.checks = check_form_factors(p.ff);
     if (p.checks.closure_worst_patch >= 0)
@@ -80,6 +127,12 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     j["surface_intersections"] = pairs;
     j["form_factor_stats"] = form_factor_stats_json(p.ff.stats);
     j["form_factor_cache"] = cache_outcome_json(p.cache);
+    j["solve_target"] = p.solve_target ? json{{"tolerance", p.solve_target->tolerance},
+                                              {"bound", p.solve_target->bound},
+                                              {"reached", p.solve_target->reached},
+                                              {"rounds", p.solve_target->rounds},
+                                              {"form_factor_tolerance", p.options.tolerance}}
+                                       : json(nullptr);
 }
 
 std::string prepared_summary(const Prepared& p) {
@@ -95,6 +148,10 @@ std::string prepared_summary(const Prepared& p) {
     s += fmt::format(
         "  reciprocity max |F_ij - A_j F_ji / A_i| = {:.2e} (relative {:.2e}, {:.2f} of the estimates)\n",
         p.checks.reciprocity_abs_error, p.checks.reciprocity_max_error, p.checks.reciprocity_vs_estimate);
+    if (const auto& t = p.solve_target)
+        s += fmt::format(
+            "  solve target {:.0e}: {} after {} form-factor run(s), bound {:.2e} at tolerance {:.1e}\n",
+            t->tolerance, t->reached ? "met" : "NOT met", t->rounds, t->bound, p.options.tolerance);
     if (!p.ff.error.empty())
         s += fmt::format("  error estimates: max per entry {:.2e}, max per row {:.2e}\n",
                          p.checks.max_error_estimate, p.checks.max_row_error_estimate);

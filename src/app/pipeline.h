@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 
 #include "app/form_factor_request.h"
@@ -28,7 +29,15 @@ struct Prepared {
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]", "" when none
     std::vector<SurfaceIntersection> intersections;
-    std::string worst_miss;       // "surface[is,it] -> surface[is,it]", "" when no entry misses
+    std::string worst_miss;  // "surface[is,it] -> surface[is,it]", "" when no entry misses
+    // A target on the radiosity (scene solve: tolerance or --solve-tolerance) and how it went.
+    struct SolveTarget {
+        double tolerance = 0.0;  // asked: max |B - B*| / max B per channel
+        double bound = 0.0;      // the bound reached for the scene's own lights and colours
+        bool reached = false;
+        int rounds = 0;  // form-factor computations it took (1: the first tolerance sufficed)
+    };
+    std::optional<SolveTarget> solve_target;
     double load_s = 0.0;          // reading the scene and building the geometry
     double form_factors_s = 0.0;  // computing or loading the matrix
 };

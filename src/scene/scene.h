@@ -42,6 +42,13 @@ struct FormFactorSettings {
     bool visibility = true;           // test occlusion
 };
 
+// The scene file's solve block: a target on the radiosity itself.
+struct SolveSettings {
+    // max |B - B*| / max B per channel (B* with exact form factors): the form-factor tolerance is
+    // tightened until the reported bound (radiosity_error_bound) meets it.
+    std::optional<double> tolerance;
+};
+
 struct Scene {
     std::string name;
     std::string file;
@@ -49,6 +56,8 @@ struct Scene {
     // absorbed power. Open scenes are allowed; closure figures are then not reported.
     bool closed = true;
     FormFactorSettings form_factors;
+    SolveSettings solve;
+    FileLoc solve_loc;  // where the solve block is, for messages about it
     std::vector<SurfaceDesc> surfaces;
 
     int patch_count() const;

@@ -125,6 +125,21 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
     return f;
 }
 
+SolveSettings read_solve_settings(const YAML::Node& node, const std::string& file) {
+    YamlMap m(node, file, "solve");
+    SolveSettings s;
+    if (auto t = m.optional("tolerance")) {
+        s.tolerance = yaml_number(*t, file, "tolerance");
+        if (!(*s.tolerance >= kMinFormFactorTolerance && *s.tolerance <= 0.1))
+            throw Error(loc_of(*t, file),
+                        "solve tolerance must be in [1e-12, 0.1] (relative to the largest "
+                        "radiosity of each channel), got " +
+                            t->Scalar());
+    }
+    m.reject_unknown_keys("tolerance");
+    return s;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
@@ -135,8 +150,16 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
     scene.name = m.has("name") ? m.string("name") : std::filesystem::path(filename).stem().string();
     scene.closed = m.boolean_or("closed", true);
     if (auto ff = m.optional("form_factors")) scene.form_factors = read_form_factor_settings(*ff, filename);
+    if (auto sv = m.optional("solve")) {
+        scene.solve = read_solve_settings(*sv, filename);
+        scene.solve_loc = loc_of(*sv, filename);
+        if (scene.solve.tolerance && scene.form_factors.gauss_points)
+            throw Error(scene.solve_loc,
+                        "solve: a tolerance needs error-controlled form factors (their estimates "
+                        "bound the error); remove form_factors: gauss_points");
+    }
     const YAML::Node list = m.required("surfaces");
-    m.reject_unknown_keys("name, closed, form_factors, surfaces");
+    m.reject_unknown_keys("name, closed, form_factors, solve, surfaces");
     if (!list.IsSequence() || list.size() == 0)
         throw Error(loc_of(list, filename), "surfaces must be a non-empty list of surfaces");
     long long total = 0;
