@@ -12,6 +12,10 @@ struct AccuracyJob {
     bool quick = false;      // a few methods only (smoke test)
     double budget_s = 30.0;  // stop refining a method on a configuration once a run exceeds this
     int threads = 0;
+    // --validation: the estimates' coverage study instead (app/validation_study.h), with this
+    // many configurations per family.
+    bool validation = false;
+    int per_family = 50;
 };
 
 // Runs the study, writes accuracy.csv and accuracy.md into out_dir (tools/plot-accuracy plots the CSV),

@@ -13,6 +13,7 @@
 #include "app/formfactors_cmd.h"
 #include "app/sequence_job.h"
 #include "app/still.h"
+#include "app/validation_study.h"
 #include "encode/features.h"
 #include "surfaces/registry.h"
 #include "util/error.h"
@@ -171,6 +172,12 @@ void add_accuracy_command(CLI::App& app, Commands* c) {
             "--budget", job.budget_s,
             "Stop refining a method on a configuration once one run takes longer (seconds, default 30)")
         ->check(CLI::Range(0.01, 3600.0));
+    c->accuracy->add_flag("--validation", job.validation,
+                          "Instead: do the error estimates cover the true errors? Random configurations with "
+                          "closed forms, a fitting and a checking half (validation.md, validation.csv)");
+    c->accuracy
+        ->add_option("--per-family", job.per_family, "--validation: configurations per family (default 50)")
+        ->check(CLI::Range(2, 10000));
     c->accuracy->add_option("--threads", job.threads, "Worker threads (0 = all cores)")
         ->check(CLI::Range(0, 1024));
 }
@@ -268,7 +275,10 @@ int run_command(const CLI::App& app, Commands& c, const WarningSink& warn, std::
         return 0;
     }
     if (c.accuracy->parsed()) {
-        run_accuracy(c.accuracy_job, out);
+        if (c.accuracy_job.validation)
+            run_validation({c.accuracy_job.out_dir, c.accuracy_job.per_family, 1991}, out);
+        else
+            run_accuracy(c.accuracy_job, out);
         return 0;
     }
     if (c.formfactors->parsed()) {

@@ -1,0 +1,256 @@
+#include "app/validation_study.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "formfactor/analytic.h"
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "scene/scene.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
+
+namespace radiosa {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One quantity with a known answer, read off a computed matrix: its value and its estimate.
+struct Reading {
+    double value = 0.0, estimate = 0.0;
+};
+
+struct Case {
+    std::string family, parameters;
+    std::string yaml;  // the scene's surfaces
+    double exact = 0.0;
+    std::function<Reading(const FormFactors&)> read;
+};
+
+struct Measurement {
+    int config = 0;
+    std::string family, parameters;
+    double tolerance = 0.0, exact = 0.0, value = 0.0, estimate = 0.0, seconds = 0.0;
+    bool capped = false;
+    double error() const { return std::abs(value - exact); }
+};
+
+std::string v3(const Vec3& v) { return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", v.x, v.y, v.z); }
+
+std::string quad(const std::string& name, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    return fmt::format(
+        "  - {{name: {}, type: quad, corners: [{}, {}, {}, {}], patches: [1, 1], reflectance: [0, 0, 0]}}\n",
+        name, v3(a), v3(b), v3(c), v3(d));
+}
+
+// F_01 with its estimate.
+Reading entry01(const FormFactors& ff) { return {ff.F(0, 1), ff.error[1]}; }
+
+class Sampler {
+public:
+    explicit Sampler(unsigned seed) : m_rng(seed) {}
+    double log_uniform(double lo, double hi) {
+        return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(m_rng));
+    }
+    int pick(std::initializer_list<int> v) {
+        return *(v.begin() + std::uniform_int_distribution<int>(0, static_cast<int>(v.size()) - 1)(m_rng));
+    }
+
+private:
+    std::mt19937 m_rng;
+};
+
+// Howell C-11: opposed a x b rectangles at distance c, everything scaled by `scale`.
+Case opposed(Sampler& s) {
+    const double a = s.log_uniform(0.05, 20), b = s.log_uniform(0.05, 20);
+    const double c = std::min(a, b) * s.log_uniform(1e-9, 10), k = s.log_uniform(1e-6, 1e6);
+    return {"opposed rectangles", fmt::format("a {:.3g}, b {:.3g}, c {:.3g}, scale {:.1e}", a, b, c, k),
+            quad("lo", k * Vec3(0, 0, 0), k * Vec3(a, 0, 0), k * Vec3(a, b, 0), k * Vec3(0, b, 0)) +
+                quad("hi", k * Vec3(0, 0, c), k * Vec3(0, b, c), k * Vec3(a, b, c), k * Vec3(a, 0, c)),
+            analytic::parallel_rectangles(a, b, c), entry01};
+}
+
+// Howell C-14, and with a gap g between the rectangles' shared edge lines (superposition).
+Case perpendicular(Sampler& s, bool gap) {
+    const double l = s.log_uniform(0.05, 20), w = s.log_uniform(0.05, 20), h = s.log_uniform(0.05, 20);
+    const double g = gap ? std::min({l, w, h}) * s.log_uniform(1e-9, 1) : 0.0;
+    const double k = s.log_uniform(1e-6, 1e6);
+    return {
+        gap ? "perpendicular rectangles, gap" : "perpendicular rectangles, shared edge",
+        fmt::format("l {:.3g}, w {:.3g}, h {:.3g}, gap {:.3g}, scale {:.1e}", l, w, h, g, k),
+        quad("floor", k * Vec3(0, 0, 0), k * Vec3(l, 0, 0), k * Vec3(l, w, 0), k * Vec3(0, w, 0)) +
+            quad("wall", k * Vec3(0, 0, g), k * Vec3(0, 0, g + h), k * Vec3(l, 0, g + h), k * Vec3(l, 0, g)),
+        gap ? analytic::perpendicular_rectangles_gap(l, w, g, h)
+            : analytic::perpendicular_rectangles(l, w, h),
+        entry01};
+}
+
+// A sphere of radius r whose centre is at height h above a corner of an a x b rectangle:
+// F(sphere -> rectangle) = atan(D1 D2 / sqrt(1 + D1^2 + D2^2)) / (4 pi), D = a/h, b/h (Howell
+// B-?; a quarter of an infinite plane gives 1/8). Read as the area-weighted sum over the
+// sphere's patches.
+Case sphere_to_rectangle(Sampler& s) {
+    const double r = s.log_uniform(0.1, 1), h = r * (1.0 + s.log_uniform(1e-3, 10));
+    const double a = h * s.log_uniform(0.1, 10), b = h * s.log_uniform(0.1, 10);
+    const int ns = s.pick({1, 2, 4, 8}), nt = s.pick({1, 2, 4});
+    const double D1 = a / h, D2 = b / h;
+    const double exact = std::atan(D1 * D2 / std::sqrt(1 + D1 * D1 + D2 * D2)) / (4 * kPi);
+    return {
+        "sphere to rectangle",
+        fmt::format("r {:.3g}, h {:.3g}, a {:.3g}, b {:.3g}, patches {}x{}", r, h, a, b, ns, nt),
+        quad("rect", Vec3(0, 0, 0), Vec3(a, 0, 0), Vec3(a, b, 0), Vec3(0, b, 0)) +
+            fmt::format("  - {{name: ball, type: sphere, center: [0, 0, {:.17g}], radius: {:.17g}, patches: "
+                        "[{}, {}], reflectance: [0, 0, 0]}}\n",
+                        h, r, ns, nt),
+        exact, [](const FormFactors& ff) {
+            const int n = ff.F.n;
+            double area = 0.0;
+            Reading rd;
+            for (int i = 1; i < n; ++i) {
+                area += ff.area[i];
+                rd.value += ff.area[i] * ff.F(i, 0);
+                rd.estimate += ff.area[i] * ff.error[static_cast<std::size_t>(i) * n];
+            }
+            rd.value /= area;
+            rd.estimate /= area;
+            return rd;
+        }};
+}
+
+// The inside of a sphere: every entry is A_j / (4 pi R^2); read the worst entry's error.
+Case inside_sphere(Sampler& s) {
+    const double r = s.log_uniform(1e-6, 1e6);
+    const int ns = s.pick({2, 4, 8}), nt = s.pick({1, 2, 4});
+    return {
+        "inside of a sphere", fmt::format("R {:.3g}, patches {}x{}", r, ns, nt),
+        fmt::format("  - {{name: shell, type: sphere, center: [0, 0, 0], radius: {:.17g}, facing: inward, "
+                    "patches: [{}, {}], reflectance: [0, 0, 0]}}\n",
+                    r, ns, nt),
+        0.0, [](const FormFactors& ff) {
+            Reading rd;
+            const int n = ff.F.n;
+            double total = 0.0;
+            for (double a : ff.area) total += a;
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    const double err = std::abs(ff.F(i, j) - ff.area[j] / total);
+                    if (err >= rd.value) rd = {err, ff.error[static_cast<std::size_t>(i) * n + j]};
+                }
+            return rd;
+        }};
+}
+
+std::vector<Case> cases(const ValidationJob& job) {
+    Sampler s(job.seed);
+    std::vector<Case> c;
+    for (int k = 0; k < job.per_family; ++k) {
+        c.push_back(opposed(s));
+        c.push_back(perpendicular(s, false));
+        c.push_back(perpendicular(s, true));
+        c.push_back(sphere_to_rectangle(s));
+        if (k % 5 == 0) c.push_back(inside_sphere(s));
+    }
+    return c;
+}
+
+}  // namespace
+
+ValidationSummary run_validation(const ValidationJob& job, std::ostream& out) {
+    std::error_code ec;
+    fs::create_directories(job.out_dir, ec);
+    if (ec) throw Error(job.out_dir + ": cannot create the output directory: " + ec.message());
+    const std::vector<double> tols = {1e-4, 1e-6, 1e-8, 1e-10};
+    std::vector<Measurement> ms;
+    const std::vector<Case> all = cases(job);
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        const Case& c = all[k];
+        const Scene scene = parse_scene("closed: false\nsurfaces:\n" + c.yaml, "validation");
+        const SceneGeometry g(scene);
+        for (double tol : tols) {
+            const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(tol));
+            const Reading rd = c.read(ff);
+            ms.push_back({static_cast<int>(k), c.family, c.parameters, tol, c.exact, rd.value, rd.estimate,
+                          ff.stats.seconds, ff.stats.capped > 0});
+        }
+    }
+    ValidationSummary sum;
+    sum.configurations = static_cast<int>(all.size());
+    sum.measurements = static_cast<int>(ms.size());
+    for (std::size_t k = 0; k < ms.size(); ++k) {
+        const Measurement& m = ms[k];
+        const bool fit = m.config % 2 == 0;
+        if (fit) {
+            if (m.error() > 0.0)
+                sum.fit_needed_factor =
+                    std::max(sum.fit_needed_factor, m.estimate > 0.0 ? m.error() / m.estimate : INFINITY);
+            continue;
+        }
+        ++sum.check_measurements;
+        sum.check_covered += m.error() <= m.estimate;
+        if (!m.capped) {
+            ++sum.check_uncapped;
+            sum.check_within_tolerance += m.error() <= m.tolerance;
+        }
+        if (k > 0 && ms[k - 1].config == m.config) {
+            ++sum.check_pairs;
+            // Tighter is no worse: the error at the tighter tolerance stays within that
+            // tolerance or below the looser one's error.
+            sum.check_monotone += m.error() <= std::max(ms[k - 1].error(), m.tolerance);
+        }
+    }
+    std::ostringstream csv, md;
+    csv << "config,half,family,parameters,tolerance,exact,value,error,estimate,capped,seconds\n";
+    for (const Measurement& m : ms)
+        csv << fmt::format("{},{},\"{}\",\"{}\",{:g},{:.17g},{:.17g},{:.3e},{:.3e},{},{:.4f}\n", m.config,
+                           m.config % 2 == 0 ? "fit" : "check", m.family, m.parameters, m.tolerance, m.exact,
+                           m.value, m.error(), m.estimate, m.capped ? 1 : 0, m.seconds);
+    md << fmt::format("| | |\n|---|---|\n| configurations | {} (seed {}, {} per family) |\n",
+                      sum.configurations, job.seed, job.per_family);
+    md << fmt::format("| measurements | {} (tolerances 1e-4, 1e-6, 1e-8, 1e-10) |\n", sum.measurements);
+    md << fmt::format(
+        "| fitting half: largest error / estimate | {:.3g} (1 or less: no extra safety needed) |\n",
+        sum.fit_needed_factor);
+    md << fmt::format("| checking half: error within its estimate | {} of {} |\n", sum.check_covered,
+                      sum.check_measurements);
+    md << fmt::format("| checking half: uncapped and within tolerance | {} of {} |\n",
+                      sum.check_within_tolerance, sum.check_uncapped);
+    md << fmt::format("| checking half: tighter tolerance no worse | {} of {} |\n", sum.check_monotone,
+                      sum.check_pairs);
+    md << "\n| family | tolerance | measurements | max error | max error / estimate | max seconds |\n"
+          "|---|---|---|---|---|---|\n";
+    std::vector<std::string> families;
+    for (const Measurement& m : ms)
+        if (std::find(families.begin(), families.end(), m.family) == families.end())
+            families.push_back(m.family);
+    for (const std::string& f : families)
+        for (double tol : tols) {
+            int count = 0;
+            double worst = 0.0, ratio = 0.0, secs = 0.0;
+            for (const Measurement& m : ms)
+                if (m.family == f && m.tolerance == tol) {
+                    ++count;
+                    worst = std::max(worst, m.error());
+                    ratio = std::max(
+                        ratio, m.estimate > 0 ? m.error() / m.estimate : (m.error() > 0 ? INFINITY : 0));
+                    secs = std::max(secs, m.seconds);
+                }
+            md << fmt::format("| {} | {:g} | {} | {:.2e} | {:.3g} | {:.3f} |\n", f, tol, count, worst, ratio,
+                              secs);
+        }
+    const fs::path dir(job.out_dir);
+    write_text_file(dir / "validation.csv", csv.str());
+    write_text_file(dir / "validation.md", md.str());
+    out << md.str() << "wrote " << (dir / "validation.csv").string() << " and "
+        << (dir / "validation.md").string() << "\n";
+    return sum;
+}
+
+}  // namespace radiosa
