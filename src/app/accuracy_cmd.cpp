@@ -140,6 +140,22 @@ std::vector<Config> planar_configurations() {
                          quad_yaml("b", "[[0, 0, 0.001], [0, 0, 1.001], [1, 0, 1.001], [1, 0, 0.001]]"));
                  },
                  pair01(perpendicular_rectangles_gap(1, 1, 1e-3, 1)), nullptr});
+    // Directly opposed unit squares a hair apart, at three scales: the contour closed form.
+    for (double gap : {1e-3, 1e-6, 1e-9})
+        for (double scale : {1e-6, 1.0, 1e6}) {
+            auto corner = [scale](double x, double y, double z) {
+                return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", x * scale, y * scale, z * scale);
+            };
+            c.push_back({fmt::format("opposed unit squares, gap {:g}, scale {:g}", gap, scale),
+                         [=] {
+                             return yaml_scene(
+                                 quad_yaml("a", "[" + corner(0, 0, 0) + ", " + corner(1, 0, 0) + ", " +
+                                                    corner(1, 1, 0) + ", " + corner(0, 1, 0) + "]") +
+                                 quad_yaml("b", "[" + corner(0, 0, gap) + ", " + corner(0, 1, gap) + ", " +
+                                                    corner(1, 1, gap) + ", " + corner(1, 0, gap) + "]"));
+                         },
+                         pair01(parallel_rectangles(1, 1, gap)), nullptr});
+        }
     c.push_back({"opposed 1 x 1e-4 strips, distance 1",
                  [] {
                      return yaml_scene(quad_yaml("a", "[[0, 0, 0], [1, 0, 0], [1, 1e-4, 0], [0, 1e-4, 0]]") +
@@ -205,6 +221,46 @@ std::vector<Config> curved_configurations() {
                      add_facets(&s, 2 * n_pol, n_pol);
                      return s;
                  }});
+    c.push_back({"concentric spheres, one patch each",
+                 [] {
+                     return yaml_scene(
+                         "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
+                         "    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"
+                         "  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 2\n"
+                         "    facing: inward\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n",
+                         true);
+                 },
+                 [](const FormFactors& ff, const SceneGeometry&) {
+                     ErrorStats e;  // 1, 0 | 1/4, 3/4
+                     e.add(ff.F(0, 1) - 1.0);
+                     e.add(ff.F(1, 0) - 0.25);
+                     e.add(ff.F(1, 1) - 0.75);
+                     return e;
+                 },
+                 nullptr});
+    c.push_back({"sphere of radius 0.9 in the cube [-1, 1]^3, faces 3 x 3: closure",
+                 [] {
+                     std::string s = cube_faces(3);
+                     for (const char* from : {"-2", "2"}) {  // side 4 -> side 2
+                         for (std::size_t at = 0; (at = s.find(from, at)) != std::string::npos; at += 2)
+                             if (s[at - 1] == ' ' || s[at - 1] == '[')
+                                 s.replace(at, std::string(from).size(), from[0] == '-' ? "-1" : "1");
+                     }
+                     return yaml_scene(
+                         s + "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 0.9\n"
+                             "    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                         true);
+                 },
+                 [](const FormFactors& ff, const SceneGeometry&) {
+                     ErrorStats e;
+                     for (int i = 0; i < ff.F.n; ++i) {
+                         double row = 0.0;
+                         for (int j = 0; j < ff.F.n; ++j) row += ff.F(i, j);
+                         e.add(row - 1.0);
+                     }
+                     return e;
+                 },
+                 nullptr});
     c.push_back({"seed scene closure (86 patches)",
                  [] { return yaml_scene(cube_faces(3) + kSphere, true); },  // the seed scene's geometry
                  [](const FormFactors& ff, const SceneGeometry&) {
