@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -61,14 +62,32 @@ Scene yaml_scene(const std::string& surfaces, bool closed = false) {
                        "accuracy");
 }
 
-// Quads of a cube of side 4 centred at the origin, normals inwards, one patch each.
-std::string cube_faces(int n = 1) {
-    return quad_yaml("floor", "[[-2, -2, -2], [2, -2, -2], [2, 2, -2], [-2, 2, -2]]", n) +
-           quad_yaml("ceiling", "[[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]]", n) +
-           quad_yaml("x0", "[[-2, -2, -2], [-2, 2, -2], [-2, 2, 2], [-2, -2, 2]]", n) +
-           quad_yaml("x1", "[[2, -2, -2], [2, -2, 2], [2, 2, 2], [2, 2, -2]]", n) +
-           quad_yaml("y0", "[[-2, -2, -2], [-2, -2, 2], [2, -2, 2], [2, -2, -2]]", n) +
-           quad_yaml("y1", "[[-2, 2, -2], [2, 2, -2], [2, 2, 2], [-2, 2, 2]]", n);
+// Quads of a cube of side 2h centred at the origin, normals inwards, n x n patches each.
+std::string cube_faces(int n = 1, double h = 2.0) {
+    auto q = [h](std::initializer_list<std::array<int, 3>> corners) {
+        std::array<std::string, 4> v;
+        std::size_t k = 0;
+        for (const auto& c : corners)
+            v[k++] = fmt::format("[{:g}, {:g}, {:g}]", c[0] * h, c[1] * h, c[2] * h);
+        return fmt::format("[{}, {}, {}, {}]", v[0], v[1], v[2], v[3]);
+    };
+    return quad_yaml("floor", q({{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}}), n) +
+           quad_yaml("ceiling", q({{-1, -1, 1}, {-1, 1, 1}, {1, 1, 1}, {1, -1, 1}}), n) +
+           quad_yaml("x0", q({{-1, -1, -1}, {-1, 1, -1}, {-1, 1, 1}, {-1, -1, 1}}), n) +
+           quad_yaml("x1", q({{1, -1, -1}, {1, -1, 1}, {1, 1, 1}, {1, 1, -1}}), n) +
+           quad_yaml("y0", q({{-1, -1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, -1, -1}}), n) +
+           quad_yaml("y1", q({{-1, 1, -1}, {1, 1, -1}, {1, 1, 1}, {-1, 1, 1}}), n);
+}
+
+// Closure of a closed scene: every row sum's distance from 1.
+ErrorStats closure_errors(const FormFactors& ff, const SceneGeometry&) {
+    ErrorStats e;
+    for (int i = 0; i < ff.F.n; ++i) {
+        double row = 0.0;
+        for (int j = 0; j < ff.F.n; ++j) row += ff.F(i, j);
+        e.add(row - 1.0);
+    }
+    return e;
 }
 
 // The unit sphere as n_az x n_pol flat facets with vertices on it (triangles at the poles).
@@ -143,17 +162,12 @@ std::vector<Config> planar_configurations() {
     // Directly opposed unit squares a hair apart, at three scales: the contour closed form.
     for (double gap : {1e-3, 1e-6, 1e-9})
         for (double scale : {1e-6, 1.0, 1e6}) {
-            auto corner = [scale](double x, double y, double z) {
-                return fmt::format("[{:.17g}, {:.17g}, {:.17g}]", x * scale, y * scale, z * scale);
-            };
+            const std::string k = fmt::format("{:.17g}", scale), z = fmt::format("{:.17g}", gap * scale);
+            const std::string lower = fmt::format("[[0, 0, 0], [{0}, 0, 0], [{0}, {0}, 0], [0, {0}, 0]]", k);
+            const std::string upper =
+                fmt::format("[[0, 0, {1}], [0, {0}, {1}], [{0}, {0}, {1}], [{0}, 0, {1}]]", k, z);
             c.push_back({fmt::format("opposed unit squares, gap {:g}, scale {:g}", gap, scale),
-                         [=] {
-                             return yaml_scene(
-                                 quad_yaml("a", "[" + corner(0, 0, 0) + ", " + corner(1, 0, 0) + ", " +
-                                                    corner(1, 1, 0) + ", " + corner(0, 1, 0) + "]") +
-                                 quad_yaml("b", "[" + corner(0, 0, gap) + ", " + corner(0, 1, gap) + ", " +
-                                                    corner(1, 1, gap) + ", " + corner(1, 0, gap) + "]"));
-                         },
+                         [=] { return yaml_scene(quad_yaml("a", lower) + quad_yaml("b", upper)); },
                          pair01(parallel_rectangles(1, 1, gap)), nullptr});
         }
     c.push_back({"opposed 1 x 1e-4 strips, distance 1",
@@ -238,47 +252,31 @@ std::vector<Config> curved_configurations() {
                      return e;
                  },
                  nullptr});
+    return c;
+}
+
+// Closed scenes whose rows must sum to 1.
+std::vector<Config> closure_configurations() {
+    std::vector<Config> c;
     c.push_back({"sphere of radius 0.9 in the cube [-1, 1]^3, faces 3 x 3: closure",
                  [] {
-                     std::string s = cube_faces(3);
-                     for (const char* from : {"-2", "2"}) {  // side 4 -> side 2
-                         for (std::size_t at = 0; (at = s.find(from, at)) != std::string::npos; at += 2)
-                             if (s[at - 1] == ' ' || s[at - 1] == '[')
-                                 s.replace(at, std::string(from).size(), from[0] == '-' ? "-1" : "1");
-                     }
                      return yaml_scene(
-                         s + "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n    radius: 0.9\n"
-                             "    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
+                         cube_faces(3, 1.0) +
+                             "  - name: ball\n    type: sphere\n    center: [0, 0, 0]\n"
+                             "    radius: 0.9\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n",
                          true);
                  },
-                 [](const FormFactors& ff, const SceneGeometry&) {
-                     ErrorStats e;
-                     for (int i = 0; i < ff.F.n; ++i) {
-                         double row = 0.0;
-                         for (int j = 0; j < ff.F.n; ++j) row += ff.F(i, j);
-                         e.add(row - 1.0);
-                     }
-                     return e;
-                 },
-                 nullptr});
+                 closure_errors, nullptr});
     c.push_back({"seed scene closure (86 patches)",
                  [] { return yaml_scene(cube_faces(3) + kSphere, true); },  // the seed scene's geometry
-                 [](const FormFactors& ff, const SceneGeometry&) {
-                     ErrorStats e;
-                     for (int i = 0; i < ff.F.n; ++i) {
-                         double row = 0.0;
-                         for (int j = 0; j < ff.F.n; ++j) row += ff.F(i, j);
-                         e.add(row - 1.0);
-                     }
-                     return e;
-                 },
-                 nullptr});
+                 closure_errors, nullptr});
     return c;
 }
 
 std::vector<Config> configurations() {
     std::vector<Config> c = planar_configurations();
     for (Config& k : curved_configurations()) c.push_back(std::move(k));
+    for (Config& k : closure_configurations()) c.push_back(std::move(k));
     return c;
 }
 

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <functional>
 #include <random>
-#include <sstream>
 #include <vector>
 
 #include "formfactor/analytic.h"
@@ -161,33 +160,32 @@ std::vector<Case> cases(const ValidationJob& job) {
     return c;
 }
 
-}  // namespace
+const std::vector<double> kTolerances = {1e-4, 1e-6, 1e-8, 1e-10};
 
-ValidationSummary run_validation(const ValidationJob& job, std::ostream& out) {
-    std::error_code ec;
-    fs::create_directories(job.out_dir, ec);
-    if (ec) throw Error(job.out_dir + ": cannot create the output directory: " + ec.message());
-    const std::vector<double> tols = {1e-4, 1e-6, 1e-8, 1e-10};
+std::vector<Measurement> measure(const std::vector<Case>& all) {
     std::vector<Measurement> ms;
-    const std::vector<Case> all = cases(job);
     for (std::size_t k = 0; k < all.size(); ++k) {
         const Case& c = all[k];
         const Scene scene = parse_scene("closed: false\nsurfaces:\n" + c.yaml, "validation");
         const SceneGeometry g(scene);
-        for (double tol : tols) {
+        for (double tol : kTolerances) {
             const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(tol));
             const Reading rd = c.read(ff);
             ms.push_back({static_cast<int>(k), c.family, c.parameters, tol, c.exact, rd.value, rd.estimate,
                           ff.stats.seconds, ff.stats.capped > 0});
         }
     }
+    return ms;
+}
+
+// Even configurations fit, odd ones check; measurements of one configuration are consecutive,
+// in kTolerances' order.
+ValidationSummary summarise(const std::vector<Measurement>& ms) {
     ValidationSummary sum;
-    sum.configurations = static_cast<int>(all.size());
     sum.measurements = static_cast<int>(ms.size());
     for (std::size_t k = 0; k < ms.size(); ++k) {
         const Measurement& m = ms[k];
-        const bool fit = m.config % 2 == 0;
-        if (fit) {
+        if (m.config % 2 == 0) {
             if (m.error() > 0.0)
                 sum.fit_needed_factor =
                     std::max(sum.fit_needed_factor, m.estimate > 0.0 ? m.error() / m.estimate : INFINITY);
@@ -206,32 +204,41 @@ ValidationSummary run_validation(const ValidationJob& job, std::ostream& out) {
             sum.check_monotone += m.error() <= std::max(ms[k - 1].error(), m.tolerance);
         }
     }
-    std::ostringstream csv, md;
-    csv << "config,half,family,parameters,tolerance,exact,value,error,estimate,capped,seconds\n";
+    return sum;
+}
+
+std::string csv_of(const std::vector<Measurement>& ms) {
+    std::string csv = "config,half,family,parameters,tolerance,exact,value,error,estimate,capped,seconds\n";
     for (const Measurement& m : ms)
-        csv << fmt::format("{},{},\"{}\",\"{}\",{:g},{:.17g},{:.17g},{:.3e},{:.3e},{},{:.4f}\n", m.config,
+        csv += fmt::format("{},{},\"{}\",\"{}\",{:g},{:.17g},{:.17g},{:.3e},{:.3e},{},{:.4f}\n", m.config,
                            m.config % 2 == 0 ? "fit" : "check", m.family, m.parameters, m.tolerance, m.exact,
                            m.value, m.error(), m.estimate, m.capped ? 1 : 0, m.seconds);
-    md << fmt::format("| | |\n|---|---|\n| configurations | {} (seed {}, {} per family) |\n",
-                      sum.configurations, job.seed, job.per_family);
-    md << fmt::format("| measurements | {} (tolerances 1e-4, 1e-6, 1e-8, 1e-10) |\n", sum.measurements);
-    md << fmt::format(
+    return csv;
+}
+
+std::string markdown_of(const ValidationJob& job, const ValidationSummary& sum,
+                        const std::vector<Measurement>& ms) {
+    std::string md = fmt::format("| | |\n|---|---|\n| configurations | {} (seed {}, {} per family) |\n",
+                                 sum.configurations, job.seed, job.per_family);
+    md += fmt::format("| measurements | {} (tolerances 1e-4, 1e-6, 1e-8, 1e-10) |\n", sum.measurements);
+    md += fmt::format(
         "| fitting half: largest error / estimate | {:.3g} (1 or less: no extra safety needed) |\n",
         sum.fit_needed_factor);
-    md << fmt::format("| checking half: error within its estimate | {} of {} |\n", sum.check_covered,
+    md += fmt::format("| checking half: error within its estimate | {} of {} |\n", sum.check_covered,
                       sum.check_measurements);
-    md << fmt::format("| checking half: uncapped and within tolerance | {} of {} |\n",
+    md += fmt::format("| checking half: uncapped and within tolerance | {} of {} |\n",
                       sum.check_within_tolerance, sum.check_uncapped);
-    md << fmt::format("| checking half: tighter tolerance no worse | {} of {} |\n", sum.check_monotone,
+    md += fmt::format("| checking half: tighter tolerance no worse | {} of {} |\n", sum.check_monotone,
                       sum.check_pairs);
-    md << "\n| family | tolerance | measurements | max error | max error / estimate | max seconds |\n"
-          "|---|---|---|---|---|---|\n";
+    md +=
+        "\n| family | tolerance | measurements | max error | max error / estimate | max seconds |\n"
+        "|---|---|---|---|---|---|\n";
     std::vector<std::string> families;
     for (const Measurement& m : ms)
         if (std::find(families.begin(), families.end(), m.family) == families.end())
             families.push_back(m.family);
     for (const std::string& f : families)
-        for (double tol : tols) {
+        for (double tol : kTolerances) {
             int count = 0;
             double worst = 0.0, ratio = 0.0, secs = 0.0;
             for (const Measurement& m : ms)
@@ -242,14 +249,28 @@ ValidationSummary run_validation(const ValidationJob& job, std::ostream& out) {
                         ratio, m.estimate > 0 ? m.error() / m.estimate : (m.error() > 0 ? INFINITY : 0));
                     secs = std::max(secs, m.seconds);
                 }
-            md << fmt::format("| {} | {:g} | {} | {:.2e} | {:.3g} | {:.3f} |\n", f, tol, count, worst, ratio,
+            md += fmt::format("| {} | {:g} | {} | {:.2e} | {:.3g} | {:.3f} |\n", f, tol, count, worst, ratio,
                               secs);
         }
+    return md;
+}
+
+}  // namespace
+
+ValidationSummary run_validation(const ValidationJob& job, std::ostream& out) {
+    std::error_code ec;
+    fs::create_directories(job.out_dir, ec);
+    if (ec) throw Error(job.out_dir + ": cannot create the output directory: " + ec.message());
+    const std::vector<Case> all = cases(job);
+    const std::vector<Measurement> ms = measure(all);
+    ValidationSummary sum = summarise(ms);
+    sum.configurations = static_cast<int>(all.size());
+    const std::string md = markdown_of(job, sum, ms);
     const fs::path dir(job.out_dir);
-    write_text_file(dir / "validation.csv", csv.str());
-    write_text_file(dir / "validation.md", md.str());
-    out << md.str() << "wrote " << (dir / "validation.csv").string() << " and "
-        << (dir / "validation.md").string() << "\n";
+    write_text_file(dir / "validation.csv", csv_of(ms));
+    write_text_file(dir / "validation.md", md);
+    out << md << "wrote " << (dir / "validation.csv").string() << " and " << (dir / "validation.md").string()
+        << "\n";
     return sum;
 }
 
