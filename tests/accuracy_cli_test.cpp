@@ -74,7 +74,7 @@ TEST(AccuracyCli, ValidationStudyEstimatesCoverTheErrorsAtModerateTolerances) {
             ++checked;
         }
     }
-    EXPECT_EQ(rows, (4 * 6 + 2) * 4);  // 4 families x 6, 2 spheres' insides, 4 tolerances each
+    EXPECT_EQ(rows, (5 * 6 + 2) * 4);  // 5 families x 6, 2 spheres' insides, 4 tolerances each
     EXPECT_EQ(checked, rows / 2);
     EXPECT_NE(out.str().find("checking half: error within its estimate"), std::string::npos);
     fs::remove_all(d);

@@ -124,6 +124,22 @@ Case sphere_to_rectangle(Sampler& s) {
         }};
 }
 
+// Two parallel unit squares at distance c with a rectangular plate between them at height h:
+// the semi-closed reference of analytic::parallel_squares_with_plate.
+Case plate_between_squares(Sampler& s) {
+    const double c = s.log_uniform(0.1, 3), h = c * s.log_uniform(0.1, 0.9);
+    const double w = s.log_uniform(0.05, 1), d = s.log_uniform(0.05, 1);
+    const double x0 = -0.5 + 1.5 * s.log_uniform(1e-3, 1), y0 = -0.5 + 1.5 * s.log_uniform(1e-3, 1);
+    return {
+        "parallel squares with a plate between",
+        fmt::format("c {:.3g}, h {:.3g}, plate [{:.3g}, {:.3g}] x [{:.3g}, {:.3g}]", c, h, x0, x0 + w, y0,
+                    y0 + d),
+        quad("lower", Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)) +
+            quad("upper", Vec3(0, 0, c), Vec3(0, 1, c), Vec3(1, 1, c), Vec3(1, 0, c)) +
+            quad("plate", Vec3(x0, y0, h), Vec3(x0 + w, y0, h), Vec3(x0 + w, y0 + d, h), Vec3(x0, y0 + d, h)),
+        analytic::parallel_squares_with_plate(c, h, x0, x0 + w, y0, y0 + d), entry01};
+}
+
 // The inside of a sphere: every entry is A_j / (4 pi R^2); read the worst entry's error.
 Case inside_sphere(Sampler& s) {
     const double r = s.log_uniform(1e-6, 1e6);
@@ -155,6 +171,7 @@ std::vector<Case> cases(const ValidationJob& job) {
         c.push_back(perpendicular(s, false));
         c.push_back(perpendicular(s, true));
         c.push_back(sphere_to_rectangle(s));
+        c.push_back(plate_between_squares(s));
         if (k % 5 == 0) c.push_back(inside_sphere(s));
     }
     return c;

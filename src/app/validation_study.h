@@ -1,11 +1,11 @@
 #pragma once
 // `radiosa accuracy --validation`: do the error estimates cover the true errors? Random
 // configurations with closed-form answers (Howell's catalogue: opposed and perpendicular
-// rectangles with and without a gap, a sphere above a rectangle's corner; the inside of a
-// sphere), over gaps from 1 down to 1e-9 of the patch size and scales from 1e-6 to 1e6, each at
-// several tolerances. Configurations alternate between a fitting half, on which the safety
-// factor the estimates would need is measured, and a checking half, on which coverage,
-// tolerance and monotonicity are counted.
+// rectangles with and without a gap, a sphere above a rectangle's corner, a plate between two
+// parallel squares; the inside of a sphere), over gaps from 1 down to 1e-9 of the patch size and scales from
+// 1e-6 to 1e6, each at several tolerances. Configurations alternate between a fitting half, on which the
+// safety factor the estimates would need is measured, and a checking half, on which coverage, tolerance and
+// monotonicity are counted.
 #include <ostream>
 #include <string>
 

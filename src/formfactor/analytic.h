@@ -2,7 +2,11 @@
 // Closed-form form factors from the radiative-transfer literature (Howell's catalogue,
 // configurations C-11 and C-14, and superpositions of them): answers known in advance for the
 // tests and the `radiosa accuracy` study.
+#include <algorithm>
 #include <cmath>
+#include <vector>
+
+#include "util/gauss_legendre.h"
 
 namespace radiosa::analytic {
 
@@ -40,6 +44,63 @@ inline double perpendicular_squares_corner() {
 // g and g + h above the shared edge line (a gap g between them): C-14 twice.
 inline double perpendicular_rectangles_gap(double l, double w, double g, double h) {
     return perpendicular_rectangles(l, w, g + h) - perpendicular_rectangles(l, w, g);
+}
+
+// From a point to a rectangle [x0, x1] x [y0, y1] in a parallel plane at distance c, facing it,
+// the point's foot at (px, py) (Howell B-3 at a corner, superposed with signs).
+inline double point_to_parallel_rectangle(double px, double py, double x0, double x1, double y0, double y1,
+                                          double c) {
+    if (!(x1 > x0) || !(y1 > y0)) return 0.0;
+    const double pi = 3.14159265358979323846;
+    auto corner = [&](double a, double b) {
+        const double A = std::abs(a) / c, B = std::abs(b) / c;
+        const double f = (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
+                          B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B))) /
+                         (2 * pi);
+        return (a < 0) == (b < 0) ? f : -f;
+    };
+    return corner(x1 - px, y1 - py) - corner(x0 - px, y1 - py) - corner(x1 - px, y0 - py) +
+           corner(x0 - px, y0 - py);
+}
+
+// From the unit square [0, 1]^2 at z = 0 (facing +z) to the unit square at z = c (facing -z)
+// with an axis-aligned rectangular plate [ox0, ox1] x [oy0, oy1] at height h in between: the
+// outer integral of the closed-form point factor to the target minus the plate's shadow (a
+// rectangle: the plate scaled by c / h about the point), by Gauss-Legendre on the pieces where
+// the shadow's bounds are affine in the point (smooth there, so 40 points per axis give
+// round-off).
+inline double parallel_squares_with_plate(double c, double h, double ox0, double ox1, double oy0,
+                                          double oy1) {
+    const double k = c / h;  // shadow of q seen from x: x + (q - x) k
+    auto breaks = [&](double o0, double o1) {
+        std::vector<double> b = {0.0, 1.0};
+        for (double o : {o0, o1})
+            for (double edge : {0.0, 1.0}) {
+                const double x = (edge - o * k) / (1 - k);
+                if (x > 0.0 && x < 1.0) b.push_back(x);
+            }
+        std::sort(b.begin(), b.end());
+        return b;
+    };
+    const std::vector<double> bx = breaks(ox0, ox1), by = breaks(oy0, oy1);
+    const radiosa::GaussRule g = radiosa::gauss_legendre(40);
+    double f = 0.0;
+    for (std::size_t a = 0; a + 1 < bx.size(); ++a)
+        for (std::size_t b = 0; b + 1 < by.size(); ++b) {
+            const double hx = 0.5 * (bx[a + 1] - bx[a]), hy = 0.5 * (by[b + 1] - by[b]);
+            for (std::size_t i = 0; i < g.x.size(); ++i)
+                for (std::size_t j = 0; j < g.x.size(); ++j) {
+                    const double x = bx[a] + hx * (g.x[i] + 1), y = by[b] + hy * (g.x[j] + 1);
+                    const double sx0 = std::max(0.0, x + (ox0 - x) * k),
+                                 sx1 = std::min(1.0, x + (ox1 - x) * k);
+                    const double sy0 = std::max(0.0, y + (oy0 - y) * k),
+                                 sy1 = std::min(1.0, y + (oy1 - y) * k);
+                    f += g.w[i] * g.w[j] * hx * hy *
+                         (point_to_parallel_rectangle(x, y, 0, 1, 0, 1, c) -
+                          point_to_parallel_rectangle(x, y, sx0, sx1, sy0, sy1, c));
+                }
+        }
+    return f;
 }
 
 }  // namespace radiosa::analytic

@@ -99,6 +99,8 @@ public:
         return false;
     }
 
+    double eps() const { return m_eps; }  // lengths below this are zero at the scene's scale
+
     // True when surface s provably keeps clear of every segment between the two polygon
     // patches: those segments fill the convex hull of their 8 corners, and a sphere farther
     // from it than its radius, or a planar convex polygon at a positive distance, meets none.
@@ -261,12 +263,15 @@ struct Estimate {
 // split, whose nodes lie elsewhere.
 constexpr double kSafety = 4.0;
 // A region's 3 x 3 check is skipped when even a kink error of this fraction of its value would
-// be below the whole integral's tolerance: the largest such error measured on the seed scene was
-// 1.6e-5 of the region's value (a quarter patch of the floor against a wall patch, tolerance 1e-9).
-constexpr double kKinkFraction = 1e-4;
+// be below the whole integral's tolerance. A sphere's outline meeting an edge bends the integrand
+// smoothly (the largest such error measured on the seed scene was 1.6e-5 of the region's value,
+// a quarter patch of the floor against a wall patch at tolerance 1e-9); a flat occluder's edge
+// meeting a corner breaks its slope, so those regions are always checked.
+constexpr double kSphereKinkFraction = 1e-4;
+constexpr double kFlatKinkFraction = 1.0;
 
 struct NoSuspects {
-    bool operator()(const Rect&) const { return false; }
+    bool operator()(const Rect&, double) const { return false; }
 };
 
 template <class G, class Geo, class Sus = NoSuspects>
@@ -306,7 +311,7 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
         // Never claim more than round-off allows: rules that happen to agree exactly still
         // carry the rounding of their sums.
         reg.err = kSafety * (e[0] + e[1]) + 64 * std::numeric_limits<double>::epsilon() * std::abs(reg.fine);
-        if (std::abs(reg.fine) * kKinkFraction > tol && suspect(r)) {
+        if (suspect(r, reg.fine)) {
             double thirds = 0.0;
             const double ds = (r.s1 - r.s0) / 3.0, dt = (r.t1 - r.t0) / 3.0;
             for (int a = 0; a < 3; ++a)
@@ -370,27 +375,41 @@ public:
                 m_cones.push_back({p, to_c / std::sqrt(l2), 1.0 - b.radius * b.radius / l2});
         }
     }
+    // Flat occluders: x on a plane through an edge of one polygon and a vertex of another (the
+    // target or another occluder), where a shadow's edge meets a corner.
+    void add_flats(const std::array<Vec3, 4>& v, const std::vector<std::array<Vec3, 4>>& occ) {
+        auto edges_vertices = [&](const std::array<Vec3, 4>& a, const std::array<Vec3, 4>& b) {
+            for (int k = 0; k < 4; ++k)
+                for (const Vec3& w : b) {
+                    const Vec3 nrm = glm::cross(a[(k + 1) % 4] - a[k], w - a[k]);
+                    if (glm::length(nrm) > 0.0) m_planes.push_back({nrm, a[k]});
+                }
+        };
+        for (std::size_t k = 0; k < occ.size(); ++k) {
+            edges_vertices(occ[k], v);
+            edges_vertices(v, occ[k]);
+            for (std::size_t l = 0; l < occ.size(); ++l)
+                if (l != k) edges_vertices(occ[k], occ[l]);
+        }
+    }
     bool empty() const { return m_horizons.empty() && m_planes.empty() && m_cones.empty(); }
 
     // Does an event cross the region? Signs at a 3 x 3 grid of its points.
     bool crosses(const Surface& si, const Rect& r) const {
         if (empty()) return false;
         const std::size_t n = m_horizons.size() + m_planes.size() + m_cones.size();
-        std::array<int, 32> sign{};
-        std::array<bool, 32> mixed{};
+        std::vector<signed char> sign(n, 0), mixed(n, 0);
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b) {
                 const double s = r.s0 + 0.5 * a * (r.s1 - r.s0), t = r.t0 + 0.5 * b * (r.t1 - r.t0);
                 const Vec3 x = si.point(s, t);
                 std::size_t k = 0;
                 auto note = [&](double e) {
-                    const int sg = e > 0.0 ? 1 : (e < 0.0 ? -1 : 0);
-                    if (k < sign.size()) {
-                        if (a + b == 0)
-                            sign[k] = sg;
-                        else if (sg != sign[k])
-                            mixed[k] = true;
-                    }
+                    const signed char sg = e > 0.0 ? 1 : (e < 0.0 ? -1 : 0);
+                    if (a + b == 0)
+                        sign[k] = sg;
+                    else if (sg != sign[k])
+                        mixed[k] = 1;
                     ++k;
                 };
                 if (!m_horizons.empty()) {
@@ -404,9 +423,7 @@ public:
                     note(along > 0.0 ? along * along - c.cos2 * glm::dot(d, d) : -1.0);
                 }
             }
-        for (std::size_t k = 0; k < std::min(n, sign.size()); ++k)
-            if (mixed[k]) return true;
-        return false;
+        return std::any_of(mixed.begin(), mixed.end(), [](signed char m) { return m != 0; });
     }
 
 private:
@@ -483,27 +500,44 @@ public:
         return std::nullopt;
     }
 
+    // What may block the pair on the semi-analytic path: one sphere, or a few flat quads.
+    struct Shadow {
+        std::optional<BoundingSphere> sphere;
+        std::vector<std::array<Vec3, 4>> flats;  // each occluder's outline
+    };
+
     // Can F_ij use the closed-form inner integral? j must be planar and nothing may block the
-    // pair, except one sphere that lies wholly between patch i and j's plane.
-    bool semi_analytic(int i, int j, const std::vector<int>& blockers,
-                       std::optional<BoundingSphere>* blocker) const {
+    // pair except one sphere that lies wholly between patch i and j's plane, or at most
+    // kMaxFlatOccluders planar convex quads (whose shadows on j are polygons).
+    bool semi_analytic(int i, int j, const std::vector<int>& blockers, Shadow* shadow) const {
         const Patch& pj = m_geo.patch(j);
         if (!pj.polygon) return false;
-        blocker->reset();
+        *shadow = Shadow{};
         if (!m_opt.visibility || blockers.empty()) return true;
+        const Patch& pi = m_geo.patch(i);
+        if (blockers.size() <= kMaxFlatOccluders) {
+            for (int k : blockers) {
+                const Surface& s = m_geo.surface(k);
+                if (!s.plane() || !s.patches_are_polygons() || k == pi.surface) {
+                    shadow->flats.clear();
+                    break;
+                }
+                shadow->flats.push_back({s.point(0, 0), s.point(1, 0), s.point(1, 1), s.point(0, 1)});
+            }
+            if (!shadow->flats.empty()) return true;
+        }
         if (blockers.size() != 1) return false;
         const Surface& s = m_geo.surface(blockers[0]);
         const auto sph = s.sphere();
-        if (!sph || blockers[0] == m_geo.patch(i).surface) return false;
+        if (!sph || blockers[0] == pi.surface) return false;
         const auto plane = m_geo.surface(pj.surface).plane();
-        const Patch& pi = m_geo.patch(i);
         if (!plane || plane->signed_distance(sph->center) < sph->radius) return false;
         // Every point of patch i must lie outside the sphere: exactly for a polygon, by its
         // bounding sphere otherwise.
         if (pi.polygon ? distance_to_polygon(sph->center, polygon(i)) <= sph->radius
                        : glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
             return false;
-        *blocker = *sph;
+        shadow->sphere = *sph;
         return true;
     }
 
@@ -511,17 +545,21 @@ public:
     // target is tol x min(A_i, A_j), not tol x A_i: the energy two patches exchange is then
     // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
-    Estimate area_times_f_semi(int i, int j, const std::optional<BoundingSphere>& blocker, double tol) const {
-        if (blocker && m_geo.patch(i).polygon) return area_times_f_shadowed(i, j, *blocker, tol);
+    Estimate area_times_f_semi(int i, int j, const Shadow& shadow, double tol) const {
+        if ((shadow.sphere || !shadow.flats.empty()) && m_geo.patch(i).polygon)
+            return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> v = polygon(j);
-        const BoundingSphere* b = blocker ? &*blocker : nullptr;
+        const BoundingSphere* b = shadow.sphere ? &*shadow.sphere : nullptr;
         auto g = [&](double s, double t) {
             const Vec3 nrm = si.normal(s, t);
             const double da = glm::length(nrm);
             if (!(da > 0.0)) return 0.0;
-            return da * point_to_polygon(si.point(s, t), nrm / da, v.data(), 4, b);
+            const Vec3 x = si.point(s, t);
+            const double hidden =
+                shadow.flats.empty() ? 0.0 : point_to_polygon_hidden(x, nrm / da, v.data(), 4, shadow.flats);
+            return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) - hidden);
         };
         // A region much larger than its distance to the receiver may hide a near-singularity
         // between its Gauss nodes (patches a hair apart): split it along the direction in which
@@ -531,7 +569,7 @@ public:
             // A shadow's edge makes the integrand only once differentiable where it sweeps
             // across the patch; nested estimates on the whole patch can miss that, so shadowed
             // pairs start from quarters.
-            if (b) {
+            if (b || !shadow.flats.empty()) {
                 if (r.s1 - r.s0 > 0.5 * (pi.s1 - pi.s0) * (1 + 1e-12)) return 0;
                 if (r.t1 - r.t0 > 0.5 * (pi.t1 - pi.t0) * (1 + 1e-12)) return 1;
             }
@@ -551,39 +589,37 @@ public:
         EventSet events;
         if (!pi.polygon) events.add_horizons(v);
         if (b) events.add_sphere(v, *b);
-        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1},
-                             tol * std::min(pi.area, m_geo.patch(j).area), kMaxOuterRegions, m_outer,
-                             geometric, [&](const Rect& r) { return events.crosses(si, r); });
+        events.add_flats(v, shadow.flats);
+        const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area);
+        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, kMaxOuterRegions, m_outer,
+                             geometric, [&](const Rect& r, double fine) {
+                                 const double fraction =
+                                     shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
+                                 return std::abs(fine) * fraction > region_tol && events.crosses(si, r);
+                             });
     }
 
-    // A_i F_ij for two polygons with a sphere between them: the unblocked exchange in closed
-    // form (the contour integral) minus the shadow, integrated over patch i with the shadow's
-    // inner integral in closed form. The shadow's integrand is free of the near-singularities
-    // of patches that touch or nearly touch (those are in the closed form), so what is left
-    // to the cubature is smooth except where the sphere's outline meets the polygon's edges.
-    Estimate area_times_f_shadowed(int i, int j, const BoundingSphere& blocker, double tol) const {
+    // A_i F_ij for two polygons with a sphere or flat quads between them: the unblocked
+    // exchange in closed form (the contour integral) minus the shadow, integrated over patch i
+    // with the shadow's inner integral in closed form (a cap of directions for a sphere,
+    // projected polygons for quads). The shadow's integrand is free of the near-singularities of
+    // patches that touch or nearly touch (those are in the closed form), so what is left to the
+    // cubature is smooth except where an occluder's outline meets the polygon's edges.
+    Estimate area_times_f_shadowed(int i, int j, const Shadow& shadow, double tol) const {
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> vi = polygon(i), vj = polygon(j);
         const PolygonPair open = polygon_to_polygon(vi.data(), 4, vj.data(), 4);
-        const Vec3 n = si.normal(0.5 * (pi.s0 + pi.s1), 0.5 * (pi.t0 + pi.t1));
-        const Vec3 unit = glm::normalize(n);
+        const Vec3 unit = glm::normalize(si.normal(0.5 * (pi.s0 + pi.s1), 0.5 * (pi.t0 + pi.t1)));
         auto g = [&](double s, double t) {
             const double da = glm::length(si.normal(s, t));
-            return da * point_to_polygon_blocked(si.point(s, t), unit, vj.data(), 4, blocker);
+            const Vec3 x = si.point(s, t);
+            return da * (shadow.sphere ? point_to_polygon_blocked(x, unit, vj.data(), 4, *shadow.sphere)
+                                       : point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats));
         };
-        // A shadow's edge makes the integrand only once differentiable where it sweeps across
-        // the patch; nested estimates on the whole patch can miss that, so start from quarters.
-        // A region whose nodes all see no shadow although some segment from it to patch j
-        // meets the sphere (the hull of the region and j reaches the sphere) holds a sliver of
-        // penumbra between its nodes: split it until they see it (down to 1e-6 of the patch).
-        const double s_len = glm::length(si.point(pi.s1, pi.t0) - si.point(pi.s0, pi.t0)),
-                     t_len = glm::length(si.point(pi.s0, pi.t1) - si.point(pi.s0, pi.t0));
-        auto quarters = [&](const Rect& r, double fine) {
-            const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
-            if (ws > 0.5 * (1 + 1e-12)) return 0;
-            if (wt > 0.5 * (1 + 1e-12)) return 1;
-            if (fine != 0.0 || std::max(ws, wt) < 1e-6) return -1;
+        // Does some segment from the region to patch j meet an occluder? Every such segment
+        // lies in the convex hull of the region's corners and j's.
+        auto reaches = [&](const Rect& r) {
             const std::array<Vec3, 8> hull = {si.point(r.s0, r.t0),
                                               si.point(r.s1, r.t0),
                                               si.point(r.s1, r.t1),
@@ -592,18 +628,41 @@ public:
                                               vj[1],
                                               vj[2],
                                               vj[3]};
-            const std::array<Vec3, 1> c = {blocker.center};
-            if (convex_distance(hull, c, blocker.radius) > blocker.radius) return -1;
+            if (shadow.sphere) {
+                const std::array<Vec3, 1> c = {shadow.sphere->center};
+                return convex_distance(hull, c, shadow.sphere->radius) <= shadow.sphere->radius;
+            }
+            for (const auto& q : shadow.flats)
+                if (convex_distance(hull, q, m_base.eps()) <= m_base.eps()) return true;
+            return false;
+        };
+        // A shadow's edge makes the integrand only once differentiable where it sweeps across
+        // the patch; nested estimates on the whole patch can miss that, so start from quarters.
+        // A region whose nodes all see no shadow although some segment from it to patch j meets
+        // an occluder holds a sliver of penumbra between its nodes: split it until they see it
+        // (down to 1e-6 of the patch).
+        const double s_len = glm::length(si.point(pi.s1, pi.t0) - si.point(pi.s0, pi.t0)),
+                     t_len = glm::length(si.point(pi.s0, pi.t1) - si.point(pi.s0, pi.t0));
+        auto quarters = [&](const Rect& r, double fine) {
+            const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
+            if (ws > 0.5 * (1 + 1e-12)) return 0;
+            if (wt > 0.5 * (1 + 1e-12)) return 1;
+            if (fine != 0.0 || std::max(ws, wt) < 1e-6 || !reaches(r)) return -1;
             return ws * s_len >= wt * t_len ? 0 : 1;
         };
         EventSet events;
-        events.add_sphere(vj, blocker);
-        Estimate shadow = adaptive_rect(
-            g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, tol * std::min(pi.area, m_geo.patch(j).area) - open.error,
-            kMaxOuterRegions, m_outer, quarters, [&](const Rect& r) { return events.crosses(si, r); });
-        shadow.value = std::max(0.0, open.value - shadow.value);
-        shadow.error += open.error;
-        return shadow;
+        if (shadow.sphere) events.add_sphere(vj, *shadow.sphere);
+        events.add_flats(vj, shadow.flats);
+        const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area) - open.error;
+        const double fraction = shadow.sphere ? kSphereKinkFraction : kFlatKinkFraction;
+        Estimate hidden =
+            adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, kMaxOuterRegions, m_outer,
+                          quarters, [&](const Rect& r, double fine) {
+                              return std::abs(fine) * fraction > region_tol && events.crosses(si, r);
+                          });
+        hidden.value = std::max(0.0, open.value - hidden.value);
+        hidden.error += open.error;
+        return hidden;
     }
 
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
@@ -692,7 +751,7 @@ public:
                 if (!self) set(j, i, *e, aj);
                 continue;
             }
-            std::optional<BoundingSphere> bij, bji;
+            Shadow bij, bji;
             bool fwd = !self && semi_analytic(i, j, blockers, &bij);
             bool bwd = !self && semi_analytic(j, i, blockers, &bji);
             // Both directions are integrated independently (so that reciprocity checks them)

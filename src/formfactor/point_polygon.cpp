@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 namespace radiosa {
 
 namespace {
 
-constexpr int kMaxVerts = 8;
+constexpr int kMaxVerts = 20;  // inputs of up to 16 vertices, cut by one plane
 
 Vec3 unit_or_zero(const Vec3& v) {
     const double l = glm::length(v);
@@ -159,6 +160,7 @@ double blocked_part(const SphericalPolygon& sp, const Vec3& x, const Vec3& n, co
 
 double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                         const BoundingSphere* blocker) {
+    if (count < 3 || count > 16) return 0.0;
     SphericalPolygon sp;
     if (!project(x, n, v, count, &sp)) return 0.0;
     const double blocked = blocker ? blocked_part(sp, x, n, *blocker) : 0.0;
@@ -171,6 +173,106 @@ double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int
     if (!project(x, n, v, count, &sp)) return 0.0;
     return std::clamp(blocked_part(sp, x, n, blocker) / (2.0 * kPi), 0.0,
                       std::max(0.0, sp.whole / (2.0 * kPi)));
+}
+
+namespace {
+
+// A convex polygon being cut, with room for the vertices cuts add.
+struct Poly {
+    std::array<Vec3, 16> v{};
+    int n = 0;
+};
+
+// The part of p where nrm . (y - o) >= 0 (Sutherland-Hodgman, order kept).
+Poly cut(const Poly& p, const Vec3& nrm, const Vec3& o) {
+    Poly out;
+    for (int k = 0; k < p.n; ++k) {
+        const Vec3& a = p.v[k];
+        const Vec3& b = p.v[(k + 1) % p.n];
+        const double da = glm::dot(nrm, a - o), db = glm::dot(nrm, b - o);
+        if (da >= 0.0 && out.n < 16) out.v[out.n++] = a;
+        if ((da >= 0.0) != (db >= 0.0) && out.n < 16) out.v[out.n++] = a + (b - a) * (da / (da - db));
+    }
+    return out;
+}
+
+Vec3 centroid(const Poly& p) {
+    Vec3 c(0.0);
+    for (int k = 0; k < p.n; ++k) c += p.v[k];
+    return c / double(p.n);
+}
+
+// The convex polygon a cut by every edge of the convex polygon b, both on the plane with unit
+// normal m: their intersection.
+Poly intersect_in_plane(Poly a, const Poly& b, const Vec3& m) {
+    const Vec3 cb = centroid(b);
+    for (int k = 0; k < b.n && a.n >= 3; ++k) {
+        const Vec3 e = b.v[(k + 1) % b.n] - b.v[k];
+        Vec3 inward = glm::cross(m, e);
+        if (glm::dot(inward, cb - b.v[k]) < 0.0) inward = -inward;
+        a = cut(a, inward, b.v[k]);
+    }
+    return a;
+}
+
+}  // namespace
+
+double point_to_polygon_hidden(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                               const std::vector<std::array<Vec3, 4>>& occluders) {
+    if (count < 3 || count > 8 || occluders.empty() || occluders.size() > kMaxFlatOccluders) return 0.0;
+    Vec3 m(0.0);
+    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
+    const double ml = glm::length(m);
+    if (!(ml > 0.0)) return 0.0;
+    m /= ml;
+    const double hx = glm::dot(m, x - v[0]);
+    if (!(hx > 0.0)) return 0.0;
+    Poly target;
+    for (int k = 0; k < count; ++k) target.v[target.n++] = v[k];
+    const Vec3 cj = centroid(target);
+    // Each occluder cut to the pyramid from x over the polygon and to the near side of its
+    // plane (beyond it nothing blocks), then projected from x onto the plane: a convex polygon
+    // inside the target.
+    std::vector<Poly> shadows;
+    for (const auto& occ : occluders) {
+        Poly p;
+        for (const Vec3& c : occ) p.v[p.n++] = c;
+        for (int k = 0; k < count && p.n >= 3; ++k) {
+            Vec3 side = glm::cross(v[k] - x, v[(k + 1) % count] - x);
+            if (glm::dot(side, cj - x) < 0.0) side = -side;
+            p = cut(p, side, x);
+        }
+        if (p.n >= 3) p = cut(p, m, v[0]);
+        if (p.n < 3) continue;
+        bool ok = true;
+        for (int k = 0; k < p.n && ok; ++k) {
+            const double depth = hx - glm::dot(m, p.v[k] - v[0]);
+            ok = depth > 1e-12 * hx;
+            if (ok) p.v[k] = x + (p.v[k] - x) * (hx / depth);
+        }
+        if (ok) shadows.push_back(p);
+    }
+    // The union of the shadows by inclusion and exclusion over their intersections.
+    double hidden = 0.0;
+    const int ns = static_cast<int>(shadows.size());
+    for (int mask = 1; mask < (1 << ns); ++mask) {
+        Poly inter;
+        int bits = 0;
+        for (int k = 0; k < ns; ++k) {
+            if (!(mask & (1 << k))) continue;
+            inter = bits++ == 0 ? shadows[k] : intersect_in_plane(inter, shadows[k], m);
+            if (inter.n < 3) break;
+        }
+        if (inter.n < 3) continue;
+        // Counter-clockwise about the target's front normal, as point_to_polygon expects.
+        Vec3 pm(0.0);
+        for (int k = 0; k < inter.n; ++k) pm += glm::cross(inter.v[k], inter.v[(k + 1) % inter.n]);
+        if (glm::dot(pm, m) < 0.0) std::reverse(inter.v.begin(), inter.v.begin() + inter.n);
+        const double f = point_to_polygon(x, n, inter.v.data(), inter.n, nullptr);
+        hidden += (bits % 2 == 1 ? f : -f);
+    }
+    const double open = point_to_polygon(x, n, v, count, nullptr);
+    return std::clamp(hidden, 0.0, open);
 }
 
 }  // namespace radiosa

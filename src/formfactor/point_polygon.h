@@ -6,6 +6,9 @@
 // (Stokes; Lambert's formula when the boundary is made of great-circle arcs). The region is
 // the polygon's projection, cut to x's front hemisphere; optionally minus the cone of
 // directions blocked by one sphere (its boundary is a small circle, integrated in closed form).
+#include <array>
+#include <vector>
+
 #include "util/math.h"
 
 namespace radiosa {
@@ -21,5 +24,13 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
 // point_to_polygon(..., &blocker), computed on its own (no cancellation), in [0, unblocked].
 double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                                 const BoundingSphere& blocker);
+
+// The part of point_to_polygon(x, n, v, count, nullptr) that planar convex quads hide: each
+// occluder's part between x and the polygon's plane, projected from x onto that plane, cut to
+// the polygon; their union by inclusion and exclusion (at most kMaxFlatOccluders). Exact: the
+// visible part of a polygon behind flat occluders is a polygon (minus polygons).
+inline constexpr std::size_t kMaxFlatOccluders = 4;
+double point_to_polygon_hidden(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                               const std::vector<std::array<Vec3, 4>>& occluders);
 
 }  // namespace radiosa

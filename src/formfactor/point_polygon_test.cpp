@@ -80,3 +80,48 @@ TEST(PointPolygon, CapArcWrappingPastPiMatchesItsMirrorImage) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+namespace {
+std::array<Vec3, 4> square_at(double x0, double x1, double y0, double y1, double z) {
+    return {Vec3(x0, y0, z), Vec3(x1, y0, z), Vec3(x1, y1, z), Vec3(x0, y1, z)};
+}
+}  // namespace
+
+// Flat occluders: their shadows are projections from the point onto the target's plane.
+TEST(PointPolygonHidden, ShadowsAreCentralProjectionsAndUnionsCountOnce) {
+    // Target: the unit square in z = 0 facing +z (counter-clockwise seen from above); the point
+    // at height 1 above its centre, looking down.
+    const std::array<Vec3, 4> target = square_at(0, 1, 0, 1, 0);
+    const Vec3 x(0.5, 0.5, 1.0), n(0, 0, -1);
+    const double open = point_to_polygon(x, n, target.data(), 4, nullptr);
+    // Halfway down, a square of half the side hides the whole target ...
+    EXPECT_NEAR(point_to_polygon_hidden(x, n, target.data(), 4, {square_at(0.25, 0.75, 0.25, 0.75, 0.5)}),
+                open, 1e-15);
+    // ... one of a quarter of the side hides the middle half-side square.
+    const std::array<Vec3, 4> middle = square_at(0.25, 0.75, 0.25, 0.75, 0);
+    const double mid = point_to_polygon(x, n, middle.data(), 4, nullptr);
+    EXPECT_NEAR(point_to_polygon_hidden(x, n, target.data(), 4, {square_at(0.375, 0.625, 0.375, 0.625, 0.5)}),
+                mid, 1e-15);
+    // Two overlapping halves of that occluder hide exactly what it hides, not more.
+    EXPECT_NEAR(point_to_polygon_hidden(
+                    x, n, target.data(), 4,
+                    {square_at(0.375, 0.55, 0.375, 0.625, 0.5), square_at(0.45, 0.625, 0.375, 0.625, 0.5)}),
+                mid, 1e-15);
+    // An occluder beyond the target's plane, or above the point, hides nothing.
+    EXPECT_EQ(point_to_polygon_hidden(x, n, target.data(), 4, {square_at(0.375, 0.625, 0.375, 0.625, -0.5)}),
+              0.0);
+    EXPECT_EQ(point_to_polygon_hidden(x, n, target.data(), 4, {square_at(0.375, 0.625, 0.375, 0.625, 1.5)}),
+              0.0);
+    // A tilted occluder reaching through the target's plane only hides with its upper part.
+    const std::array<Vec3, 4> tilted = {Vec3(0.375, 0.375, -0.5), Vec3(0.625, 0.375, -0.5),
+                                        Vec3(0.625, 0.625, 0.5), Vec3(0.375, 0.625, 0.5)};
+    const std::array<Vec3, 4> upper = {Vec3(0.375, 0.5, 0.0), Vec3(0.625, 0.5, 0.0), Vec3(0.625, 0.625, 0.5),
+                                       Vec3(0.375, 0.625, 0.5)};
+    EXPECT_NEAR(point_to_polygon_hidden(x, n, target.data(), 4, {tilted}),
+                point_to_polygon_hidden(x, n, target.data(), 4, {upper}), 1e-15);
+    EXPECT_GT(point_to_polygon_hidden(x, n, target.data(), 4, {upper}), 0.0);
+}
+
+}  // namespace radiosa
