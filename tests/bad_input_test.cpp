@@ -49,6 +49,14 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
          "@:2:14: tolerance must be in [1e-12, 0.1], got 0.5"},
         {"tolerance too small", std::string("form_factors:\n  tolerance: 1e-13\n") + kQuad,
          "@:2:14: tolerance must be in [1e-12, 0.1], got 1e-13"},
+        {"solve tolerance out of range", std::string("solve:\n  tolerance: 0.5\n") + kQuad,
+         "@:2:14: solve tolerance must be in [1e-12, 0.1] (relative to the largest radiosity of each "
+         "channel), "
+         "got 0.5"},
+        {"solve tolerance with the fixed rule",
+         std::string("form_factors:\n  gauss_points: 6\nsolve:\n  tolerance: 1e-6\n") + kQuad,
+         "@:4:3: solve: a tolerance needs error-controlled form factors (their estimates bound the error); "
+         "remove form_factors: gauss_points"},
         {"facing",
          std::string("surfaces:\n  - name: s\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
                      "    facing: sideways\n    patches: [8, 4]\n    reflectance: [0, 0, 0]\n"),
