@@ -479,6 +479,7 @@ public:
     // patches of the inside of one sphere with nothing in the way (every point sees every other
     // at cos_i cos_j / (pi r^2) = 1 / (4 pi R^2), so F_ij = A_j / (4 pi R^2), F_ii included).
     std::optional<Estimate> closed_form(int i, int j, const std::vector<int>& blockers) const {
+        if (const auto e = nested_spheres(i, j, blockers)) return e;
         if (m_opt.visibility && !blockers.empty()) return std::nullopt;
         const Patch& pi = m_geo.patch(i);
         const Patch& pj = m_geo.patch(j);
@@ -498,6 +499,46 @@ public:
             return e;
         }
         return std::nullopt;
+    }
+
+    // Nested spheres whose outer one is a single patch (the whole inward-facing sphere): all that
+    // leaves the inner (outward-facing, wholly inside) sphere reaches it, so A_k F_k,outer = A_k for
+    // every inner patch k, and it sees itself but for the inner sphere, A_o F_oo = 4 pi (R^2 - r^2).
+    std::optional<Estimate> nested_spheres(int i, int j, const std::vector<int>& blockers) const {
+        auto whole_inward = [&](int k) {
+            const Patch& p = m_geo.patch(k);
+            const Surface& s = m_geo.surface(p.surface);
+            return s.sphere() && s.sees_itself() && p.s0 == 0.0 && p.s1 == 1.0 && p.t0 == 0.0 && p.t1 == 1.0;
+        };
+        auto inside = [&](int inner_surface, const BoundingSphere& outer) {
+            const Surface& s = m_geo.surface(inner_surface);
+            const auto b = s.sphere();
+            return b && !s.sees_itself() &&
+                   glm::length(b->center - outer.center) + b->radius < outer.radius * (1.0 - 1e-12);
+        };
+        Estimate e;
+        if (i == j) {
+            if (!whole_inward(i) || !m_opt.visibility || blockers.size() != 1) return std::nullopt;
+            const BoundingSphere outer = *m_geo.surface(m_geo.patch(i).surface).sphere();
+            if (!inside(blockers[0], outer)) return std::nullopt;
+            const double r = m_geo.surface(blockers[0]).sphere()->radius;
+            e.value = 4.0 * kPi * (outer.radius * outer.radius - r * r);
+        } else {
+            const int o = whole_inward(i) ? i : (whole_inward(j) ? j : -1);
+            if (o < 0) return std::nullopt;
+            const int k = o == i ? j : i;
+            // Neither sphere can block a segment from the inside of the one to the front of the
+            // other; anything else might.
+            const int so = m_geo.patch(o).surface, sk = m_geo.patch(k).surface;
+            if (m_opt.visibility &&
+                std::any_of(blockers.begin(), blockers.end(), [&](int b) { return b != so && b != sk; }))
+                return std::nullopt;
+            if (!inside(m_geo.patch(k).surface, *m_geo.surface(m_geo.patch(o).surface).sphere()))
+                return std::nullopt;
+            e.value = m_geo.patch(k).area;
+        }
+        e.error = 16 * std::numeric_limits<double>::epsilon() * e.value;
+        return e;
     }
 
     // What may block the pair on the semi-analytic path: one sphere, or a few flat quads.

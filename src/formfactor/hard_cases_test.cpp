@@ -298,3 +298,34 @@ TEST(HardCases, PlateMidwayBetweenParallelSquaresCentredAndOffCentre) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+// Nested spheres whose outer one is a single patch: F(inner -> outer) = 1, F(outer -> inner) =
+// (r/R)^2 and F(outer -> outer) = 1 - (r/R)^2 exactly, concentric or not, however the inner
+// sphere is split. Before, these entries took the capped numeric path (4.9e-4 off).
+TEST(HardCases, NestedSpheresWithASinglePatchOutsideAreExact) {
+    for (const char* inner_center : {"[0, 0, 0]", "[0.3, -0.4, 0.5]"})
+        for (const char* inner_patches : {"[1, 1]", "[8, 4]"}) {
+            SCOPED_TRACE(std::string(inner_center) + " " + inner_patches);
+            const Scene s = parse_scene(std::string("closed: true\nsurfaces:\n") +
+                                            "  - {name: inner, type: sphere, center: " + inner_center +
+                                            ", radius: 1, patches: " + inner_patches +
+                                            ", reflectance: [0, 0, 0]}\n"
+                                            "  - {name: outer, type: sphere, center: [0, 0, 0], radius: 2, "
+                                            "facing: inward, patches: [1, 1], reflectance: [0, 0, 0]}\n",
+                                        "nested.yaml");
+            const FormFactors ff = adaptive(s, 1e-6);
+            const int n = ff.F.n, outer = n - 1;
+            EXPECT_EQ(ff.stats.numeric, 0);
+            double to_inner = 0.0;
+            for (int k = 0; k < outer; ++k) {
+                EXPECT_NEAR(ff.F(k, outer), 1.0, 1e-15);
+                to_inner += ff.F(outer, k);
+            }
+            EXPECT_NEAR(to_inner, 0.25, 1e-15);
+            EXPECT_NEAR(ff.F(outer, outer), 0.75, 1e-15);
+        }
+}
+
+}  // namespace radiosa
