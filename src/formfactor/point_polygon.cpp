@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "formfactor/convex_clip.h"
+
 namespace radiosa {
 
 namespace {
@@ -178,23 +180,7 @@ double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int
 namespace {
 
 // A convex polygon being cut, with room for the vertices cuts add.
-struct Poly {
-    std::array<Vec3, 16> v{};
-    int n = 0;
-};
-
-// The part of p where nrm . (y - o) >= 0 (Sutherland-Hodgman, order kept).
-Poly cut(const Poly& p, const Vec3& nrm, const Vec3& o) {
-    Poly out;
-    for (int k = 0; k < p.n; ++k) {
-        const Vec3& a = p.v[k];
-        const Vec3& b = p.v[(k + 1) % p.n];
-        const double da = glm::dot(nrm, a - o), db = glm::dot(nrm, b - o);
-        if (da >= 0.0 && out.n < 16) out.v[out.n++] = a;
-        if ((da >= 0.0) != (db >= 0.0) && out.n < 16) out.v[out.n++] = a + (b - a) * (da / (da - db));
-    }
-    return out;
-}
+using Poly = PolygonBuffer<16>;
 
 Vec3 centroid(const Poly& p) {
     Vec3 c(0.0);
@@ -210,7 +196,7 @@ Poly intersect_in_plane(Poly a, const Poly& b, const Vec3& m) {
         const Vec3 e = b.v[(k + 1) % b.n] - b.v[k];
         Vec3 inward = glm::cross(m, e);
         if (glm::dot(inward, cb - b.v[k]) < 0.0) inward = -inward;
-        a = cut(a, inward, b.v[k]);
+        a = clip_half_space(a, inward, b.v[k]);
     }
     return a;
 }
@@ -240,9 +226,9 @@ double point_to_polygon_hidden(const Vec3& x, const Vec3& n, const Vec3* v, int 
         for (int k = 0; k < count && p.n >= 3; ++k) {
             Vec3 side = glm::cross(v[k] - x, v[(k + 1) % count] - x);
             if (glm::dot(side, cj - x) < 0.0) side = -side;
-            p = cut(p, side, x);
+            p = clip_half_space(p, side, x);
         }
-        if (p.n >= 3) p = cut(p, m, v[0]);
+        if (p.n >= 3) p = clip_half_space(p, m, v[0]);
         if (p.n < 3) continue;
         bool ok = true;
         for (int k = 0; k < p.n && ok; ++k) {

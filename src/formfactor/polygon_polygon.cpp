@@ -6,34 +6,20 @@
 #include <limits>
 #include <vector>
 
+#include "formfactor/convex_clip.h"
+
 namespace radiosa {
 
 namespace {
 
 constexpr int kMaxVerts = 9;  // a convex 8-gon cut by one plane
 
-struct Poly {
-    std::array<Vec3, kMaxVerts> v{};
-    int n = 0;
-};
+using Poly = PolygonBuffer<kMaxVerts>;
 
 Vec3 newell(const Vec3* v, int n) {
     Vec3 m(0.0);
     for (int k = 0; k < n; ++k) m += glm::cross(v[k], v[(k + 1) % n]);
     return m;
-}
-
-// The part of the polygon where m . (x - o) >= 0, in the same order (Sutherland-Hodgman).
-Poly clip(const Poly& p, const Vec3& m, const Vec3& o) {
-    Poly out;
-    for (int k = 0; k < p.n; ++k) {
-        const Vec3& a = p.v[k];
-        const Vec3& b = p.v[(k + 1) % p.n];
-        const double da = glm::dot(m, a - o), db = glm::dot(m, b - o);
-        if (da >= 0.0 && out.n < kMaxVerts) out.v[out.n++] = a;
-        if ((da >= 0.0) != (db >= 0.0) && out.n < kMaxVerts) out.v[out.n++] = a + (b - a) * (da / (da - db));
-    }
-    return out;
 }
 
 // The Kronrod (7, 15) pair on [-1, 1] (Piessens et al., QUADPACK qk15): abscissae of the
@@ -148,7 +134,7 @@ PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb) {
     for (int k = 0; k < nb; ++k) pb.v[pb.n++] = (b[k] - origin) / size;
     const Vec3 ma = newell(pa.v.data(), pa.n), mb = newell(pb.v.data(), pb.n);
     // Each polygon cut to the other's front side: there both cosines are positive.
-    const Poly ca = clip(pa, mb, pb.v[0]), cbp = clip(pb, ma, pa.v[0]);
+    const Poly ca = clip_half_space(pa, mb, pb.v[0]), cbp = clip_half_space(pb, ma, pa.v[0]);
     if (ca.n < 3 || cbp.n < 3) return out;
     // Coplanar (or an edge-on sliver): nothing is exchanged.
     double ha = 0.0, hb = 0.0;
