@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 
@@ -648,34 +649,54 @@ private:
 
 }  // namespace
 
-FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options) {
-    const Stopwatch clock;
-    const int n = geometry.patch_count();
+struct FormFactorRows::Impl {
+    Impl(const SceneGeometry& g, const FormFactorOptions& o)
+        : geometry(g), options(o), integrator(g, options), adaptive(g, options, integrator) {}
+    const SceneGeometry& geometry;
+    FormFactorOptions options;
+    Integrator integrator;
+    AdaptiveIntegrator adaptive;
+};
+
+FormFactorRows::FormFactorRows(const SceneGeometry& geometry, const FormFactorOptions& options)
+    : m(std::make_unique<Impl>(geometry, options)) {}
+FormFactorRows::~FormFactorRows() = default;
+
+int FormFactorRows::patch_count() const { return m->geometry.patch_count(); }
+
+FormFactors FormFactorRows::zeros() const {
+    const int n = patch_count();
     FormFactors ff;
     ff.F = DenseMatrix(n);
-    ff.options = options;
-    for (const Patch& p : geometry.patches()) ff.area.push_back(p.area);
+    ff.options = m->options;
+    for (const Patch& p : m->geometry.patches()) ff.area.push_back(p.area);
+    if (m->options.method == FormFactorMethod::Adaptive) ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
+    return ff;
+}
 
-    const Integrator integrator(geometry, options);
-    const AdaptiveIntegrator adaptive(geometry, options, integrator);
-    const bool controlled = options.method == FormFactorMethod::Adaptive;
-    if (controlled) ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
+void FormFactorRows::compute(int begin, int end, FormFactors* ff, FormFactorStats* stats) const {
+    const bool controlled = m->options.method == FormFactorMethod::Adaptive;
     std::mutex merge;
-    FormFactorStats total;
     // Each task owns whole rows i and writes only F(i, j) and F(j, i) for j >= i, so no two
     // tasks write the same entry; results do not depend on the thread count.
-    tbb::parallel_for(tbb::blocked_range<int>(0, n, 1), [&](const tbb::blocked_range<int>& r) {
+    tbb::parallel_for(tbb::blocked_range<int>(begin, end, 1), [&](const tbb::blocked_range<int>& r) {
         FormFactorStats local;
         for (int i = r.begin(); i != r.end(); ++i) {
             if (controlled)
-                adaptive.row(i, &ff.F, &ff.error, &local);
+                m->adaptive.row(i, &ff->F, &ff->error, &local);
             else
-                integrator.row(i, &ff.F, &local);
+                m->integrator.row(i, &ff->F, &local);
         }
         std::lock_guard lock(merge);
-        total += local;
+        *stats += local;
     });
-    ff.stats = total;
+}
+
+FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options) {
+    const Stopwatch clock;
+    const FormFactorRows rows(geometry, options);
+    FormFactors ff = rows.zeros();
+    rows.compute(0, rows.patch_count(), &ff, &ff.stats);
     ff.stats.seconds = clock.seconds();
     return ff;
 }

@@ -4,6 +4,7 @@
 //          (n_i . e_ij)(n_j . e_ji) / L^4  ds dt dtheta dphi,
 // n the unnormalised normals dP/ds x dP/dt, e the vector joining the points, L its length,
 // evaluated by a tensor Gauss-Legendre rule with p points per parameter (p^4 terms).
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -129,6 +130,24 @@ struct FormFactors {
 };
 
 FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options);
+
+// The same computation by ranges of rows, for callers that share the rows out (the distributed
+// path, src/distribute/): compute(b, e) fills, for every row i in [b, e), F(i, j) and F(j, i)
+// for j >= i and their estimates, and adds its counts to `stats`. A row's entries do not
+// depend on which other rows are computed, where or by how many threads, so any split of
+// [0, n) gives the matrix compute_form_factors gives, bit for bit.
+class FormFactorRows {
+public:
+    FormFactorRows(const SceneGeometry& geometry, const FormFactorOptions& options);
+    ~FormFactorRows();
+    int patch_count() const;
+    FormFactors zeros() const;  // n x n zeros, areas, options and (error-controlled) estimates
+    void compute(int begin, int end, FormFactors* ff, FormFactorStats* stats) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m;
+};
 
 struct FormFactorChecks {
     double closure_max_error = 0.0;  // max_i |sum_j F_ij - 1|
