@@ -14,6 +14,8 @@
 #include "app/sequence_job.h"
 #include "app/still.h"
 #include "app/validation_study.h"
+#include "distribute/cluster.h"
+#include "distribute/form_factors.h"
 #include "encode/features.h"
 #include "surfaces/registry.h"
 #include "util/error.h"
@@ -143,9 +145,9 @@ std::string default_output(const StillJob& job) {
 std::string version_text() {
     return fmt::format(
         "radiosa {}; form-factor algorithm version {}, cache file format {}; surface types: {}; video and "
-        "palette outputs (libav): {}",
+        "palette outputs (libav): {}; MPI: {}",
         RADIOSA_VERSION, kFormFactorAlgorithmVersion, kCacheFormatVersion, surface_type_names(),
-        kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF");
+        kHasVideo ? "yes" : "no, built with -DRADIOSA_VIDEO=OFF", mpi_build_description());
 }
 
 // Every subcommand with the job its options fill.
@@ -264,6 +266,10 @@ int run_render(bool no_subcommand, Commands& c, const WarningSink& warn, std::os
 
 int run_command(const CLI::App& app, Commands& c, const WarningSink& warn, std::ostream& out,
                 std::ostream& err) {
+    // In an MPI job, matrices this run computes are shared out among the ranks.
+    Cluster& cluster = Cluster::current();
+    c.still.form_factors.cache.compute = form_factors_across(cluster, c.still.threads);
+    c.formfactors_job.form_factors.cache.compute = form_factors_across(cluster, c.formfactors_job.threads);
     const std::filesystem::path dir = c.cache_dir.dir.empty() ? default_cache_dir() : c.cache_dir.dir;
     if (c.cache_list->parsed()) {
         cache_list(dir, out);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/report_json.h"
+#include "distribute/cluster.h"
 #include "solve/solver.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
@@ -108,6 +109,7 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     j["surfaces"] = p.geometry.surface_count();
     j["patches"] = p.geometry.patch_count();
     j["closed"] = p.scene.closed;
+    j["ranks"] = Cluster::current().size();
     add_form_factor_method(j, p.options);
     // Closure only means something for a closed scene.
     j["closure_max_error"] = p.scene.closed ? json(p.checks.closure_max_error) : json(nullptr);
@@ -142,6 +144,8 @@ std::string prepared_summary(const Prepared& p) {
                     "form factors", p.form_factors_s, describe(p.options),
                     p.options.visibility ? "on" : "off", st.pairs, st.pairs_culled, st.segment_tests);
     s += fmt::format("  {:<13}    cache {}\n", "", cache_outcome_summary(p.cache));
+    if (Cluster::current().distributed() && p.cache.compute_s > 0)
+        s += fmt::format("  {:<13}    computed by {} MPI ranks\n", "", Cluster::current().size());
     if (p.scene.closed)
         s += fmt::format("  closure max |sum_j F_ij - 1| = {:.2e} (worst: {})\n", p.checks.closure_max_error,
                          p.closure_worst_patch);

@@ -10,6 +10,8 @@
 
 #include "app/pipeline.h"
 #include "app/report_json.h"
+#include "distribute/cluster.h"
+#include "distribute/frames.h"
 #include "encode/encode.h"
 #include "encode/features.h"
 #include "geometry/scene_geometry.h"
@@ -24,6 +26,9 @@
 namespace radiosa {
 
 namespace {
+
+// Frames rendered by other ranks that may wait on rank 0 for the ones before them.
+constexpr int kFramesAhead = 8;
 
 // Frames go to the outputs on their own thread while the next frames render. The queue is
 // short so that memory stays bounded. After an output failure the thread keeps draining the
@@ -171,20 +176,48 @@ public:
 
     void run(std::vector<std::unique_ptr<RadiositySolver>>& solvers, EncoderThread& encoder,
              SequenceKept* kept) {
-        const Stopwatch loop_clock;
         for (std::size_t f = 0; f < m_r->frames.size(); ++f) {
             FrameRecord& rec = m_r->frames[f];
             solve(rec, *solvers[rec.plan.reflectance_set]);
             render(rec);
-            if (m_job.on_frame) m_job.on_frame(static_cast<int>(f), *m_image);
-            if (m_job.palette > 0)
-                kept->add(to_srgb8(*m_image, m_job.exposure));
-            else
-                encoder.push(static_cast<int>(f), m_image);
-            if (m_job.progress)
-                print_progress(*m_job.progress, static_cast<int>(f + 1), static_cast<int>(m_r->frames.size()),
-                               loop_clock.seconds());
+            deliver(f, encoder, kept);
         }
+    }
+    // The same frames with an MPI job's ranks rendering (src/distribute/frames.h): every state
+    // is solved here first, as run() solves it, then the frames to render are shared out and
+    // come back in order; copies are made here.
+    void run_across(Cluster& cluster, std::vector<std::unique_ptr<RadiositySolver>>& solvers,
+                    EncoderThread& encoder, SequenceKept* kept) {
+        for (FrameRecord& rec : m_r->frames) solve(rec, *solvers[rec.plan.reflectance_set]);
+        FrameOrder order{m_p.scene.file, m_job.threads, m_r->render, {}, {}};
+        for (std::size_t s = 0; s < m_solutions.size(); ++s)
+            order.states.push_back({m_solutions[s], m_plan.solutions[s].E});
+        for (std::size_t f = 0; f < m_r->frames.size(); ++f)
+            if (m_r->frames[f].plan.render == RenderAction::Rendered)
+                order.frames.push_back(
+                    {static_cast<int>(f), m_r->frames[f].plan.camera, m_r->frames[f].plan.solution});
+        std::size_t next = 0;  // the next frame to deliver
+        auto copies_until = [&](std::size_t end) {
+            for (; next < end; ++next) {
+                ++m_r->copies;
+                deliver(next, encoder, kept);
+            }
+        };
+        render_frames_across(
+            cluster, m_p.scene, m_p.geometry, order,
+            [&](int k, RenderedFrame frame) {
+                const auto f = static_cast<std::size_t>(order.frames[static_cast<std::size_t>(k)].frame);
+                copies_until(f);
+                FrameRecord& rec = m_r->frames[f];
+                rec.render_s = frame.render_s;
+                rec.rank = frame.rank;
+                m_image = std::move(frame.image);
+                ++m_r->renders;
+                deliver(f, encoder, kept);
+                next = f + 1;
+            },
+            kFramesAhead);
+        copies_until(m_r->frames.size());
     }
 
 private:
@@ -214,6 +247,17 @@ private:
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
     }
+    // Frame f (m_image) to the test hook, the outputs and the progress bar.
+    void deliver(std::size_t f, EncoderThread& encoder, SequenceKept* kept) {
+        if (m_job.on_frame) m_job.on_frame(static_cast<int>(f), *m_image);
+        if (m_job.palette > 0)
+            kept->add(to_srgb8(*m_image, m_job.exposure));
+        else
+            encoder.push(static_cast<int>(f), m_image);
+        if (m_job.progress)
+            print_progress(*m_job.progress, static_cast<int>(f + 1), static_cast<int>(m_r->frames.size()),
+                           m_clock.seconds());
+    }
     void render(FrameRecord& rec) {
         const FramePlan& fp = rec.plan;
         const Stopwatch clock;
@@ -240,6 +284,7 @@ private:
     std::unique_ptr<NodeRadiosity> m_nodes;
     int m_nodes_solution = -1;
     std::shared_ptr<const Image> m_image;
+    Stopwatch m_clock;
 };
 
 // Reads the sequence and resolves the image size, then checks every output: all before any
@@ -301,7 +346,12 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     EncoderThread encoder(std::move(sinks), &r.frames);
     std::vector<std::unique_ptr<RadiositySolver>> solvers = build_solvers(job, p, plan, &r);
     SequenceKept kept;  // with a palette: every frame, 8-bit, until all have added to the histogram
-    FrameLoop(job, p, plan, &r).run(solvers, encoder, &kept);
+    Cluster& cluster = Cluster::current();
+    r.ranks = cluster.size();
+    if (cluster.distributed())
+        FrameLoop(job, p, plan, &r).run_across(cluster, solvers, encoder, &kept);
+    else
+        FrameLoop(job, p, plan, &r).run(solvers, encoder, &kept);
     encoder.finish();
     if (job.progress) *job.progress << "\n";
     if (job.palette > 0) {
@@ -326,6 +376,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
     j["sequence"] = job.sequence_path;
     j["outputs"] = job.outputs;
     j["threads"] = r.threads;
+    j["ranks"] = r.ranks;
     j["fps"] = r.fps;
     j["frame_count"] = r.frames.size();
     j["duration_s"] = r.frames.size() / r.fps;
@@ -359,6 +410,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                           {"form_factors", f.form_factors},
                           {"solve", solve_action_name(f.plan.solve)},
                           {"render", render_action_name(f.plan.render)},
+                          {"rank", f.rank},
                           {"form_factors_s", f.form_factors_s},
                           {"solve_s", f.solve_s},
                           {"render_s", f.render_s},

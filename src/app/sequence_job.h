@@ -40,6 +40,7 @@ struct SequenceJob {
 struct FrameRecord {
     FramePlan plan;
     const char* form_factors = "reused";  // computed | cached | reused
+    int rank = 0;                         // the MPI rank that rendered it (0: one process)
     double form_factors_s = 0, solve_s = 0, render_s = 0, encode_s = 0;
 };
 
@@ -48,6 +49,7 @@ struct SequenceReport {
     std::unique_ptr<Prepared> prep;  // scene, geometry, form factors, their cache and checks
     RenderOptions render;            // as resolved
     int threads = 0;
+    int ranks = 1;  // processes of the MPI job (1: not distributed)
     double fps = 0;
     int reflectance_sets = 0, factorisations = 0, substitutions = 0, channel_solves = 0, renders = 0,
         copies = 0;

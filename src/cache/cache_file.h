@@ -22,6 +22,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -107,8 +108,14 @@ void check_cache_matrix(const FormFactors& ff, const FormFactorOptions& options,
 
 // ---- the policy: where the cache lives and how a run uses it ----
 
+// How a run computes a matrix it does not find: in this process (empty), or shared out among
+// the ranks of an MPI job (src/distribute/form_factors.h).
+using ComputeFormFactors =
+    std::function<FormFactors(const Scene&, const SceneGeometry&, const FormFactorOptions&)>;
+
 struct CacheSettings {
     bool enabled = true;
+    ComputeFormFactors compute;     // empty: compute_form_factors here
     std::filesystem::path dir;      // empty: default_cache_dir()
     double lock_timeout_s = 600.0;  // give up waiting for another process's lock after this long
 };

@@ -10,10 +10,12 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <thread>
 
 #include "cache/cache_file.h"
 #include "scene/scene.h"
+#include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
 
@@ -68,10 +70,12 @@ public:
         const std::string pid = std::to_string(::getpid()) + "\n";
         // Who holds it, for the message a waiting run prints; failing to write it is harmless.
         if (::ftruncate(m_fd, 0) == 0) (void)!::pwrite(m_fd, pid.data(), pid.size(), 0);
+        m_remove = std::make_unique<RemoveOnSignal>(m_path);
     }
     ~KeyLock() {
         if (m_fd < 0) return;
         ::unlink(m_path.c_str());
+        m_remove.reset();
         release_fd();  // closing releases the lock
     }
     KeyLock(const KeyLock&) = delete;
@@ -118,20 +122,22 @@ private:
 
     fs::path m_path;
     int m_fd = -1;
+    std::unique_ptr<RemoveOnSignal> m_remove;  // a run ended by a signal releases it too
 };
 
 // One run's use of the cache for one matrix: what it loaded, computed and wrote, and why.
 class CacheRun {
 public:
     CacheRun(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
-             const WarningSink& warn)
-        : m_scene(scene), m_geometry(geometry), m_options(options), m_warn(warn) {}
+             const ComputeFormFactors& how, const WarningSink& warn)
+        : m_scene(scene), m_geometry(geometry), m_options(options), m_how(how), m_warn(warn) {}
 
     CacheOutcome o;
 
     FormFactors compute() {
         const Stopwatch clock;
-        FormFactors ff = compute_form_factors(m_geometry, m_options);
+        FormFactors ff =
+            m_how ? m_how(m_scene, m_geometry, m_options) : compute_form_factors(m_geometry, m_options);
         o.compute_s = clock.seconds();
         return ff;
     }
@@ -187,6 +193,7 @@ private:
     const Scene& m_scene;
     const SceneGeometry& m_geometry;
     const FormFactorOptions& m_options;
+    const ComputeFormFactors& m_how;
     const WarningSink& m_warn;
 };
 
@@ -233,7 +240,7 @@ FormFactors obtain(CacheRun& run, const Scene& scene, const FormFactorOptions& o
 FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
                                 const FormFactorOptions& options, const CacheSettings& settings,
                                 const WarningSink& warn, CacheOutcome* outcome) {
-    CacheRun run(scene, geometry, options, warn);
+    CacheRun run(scene, geometry, options, settings.compute, warn);
     FormFactors ff = obtain(run, scene, options, settings, warn);
     if (outcome) *outcome = run.o;
     return ff;

@@ -670,7 +670,8 @@ FormFactors FormFactorRows::zeros() const {
     ff.F = DenseMatrix(n);
     ff.options = m->options;
     for (const Patch& p : m->geometry.patches()) ff.area.push_back(p.area);
-    if (m->options.method == FormFactorMethod::Adaptive) ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
+    if (m->options.method == FormFactorMethod::Adaptive)
+        ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
     return ff;
 }
 

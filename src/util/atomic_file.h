@@ -1,6 +1,7 @@
 #pragma once
 // Outputs are written under a temporary sibling name and renamed into place when complete,
-// so a failed or killed run never leaves a half-written file under the final name.
+// so a failed or killed run never leaves a half-written file under the final name. A run ended
+// by SIGTERM, SIGINT or SIGHUP (mpirun aborting a job, Ctrl-C) also removes its temporaries.
 //
 // The temporary file is created exclusively (O_CREAT | O_EXCL | O_NOFOLLOW) under a name with
 // a random part, in the final file's directory: a link planted at a predictable name is never
@@ -36,7 +37,21 @@ private:
     std::filesystem::path m_final;
     std::filesystem::path m_temp;
     int m_fd = -1;
+    int m_slot = -1;  // in the list a signal handler cleans up
     bool m_committed = false;
+};
+
+// While it lives, `path` is removed if SIGTERM, SIGINT or SIGHUP ends the process (AtomicFile's
+// temporaries use the same list; so does the cache's lock file).
+class RemoveOnSignal {
+public:
+    explicit RemoveOnSignal(const std::filesystem::path& path);
+    ~RemoveOnSignal();
+    RemoveOnSignal(const RemoveOnSignal&) = delete;
+    RemoveOnSignal& operator=(const RemoveOnSignal&) = delete;
+
+private:
+    int m_slot;
 };
 
 // Fails early, with a message naming the path, when an output cannot be written there:
