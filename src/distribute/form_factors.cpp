@@ -1,6 +1,7 @@
 #include "distribute/form_factors.h"
 
 #include <fmt/format.h>
+#include <tbb/info.h>
 
 #include <filesystem>
 #include <mutex>
@@ -21,7 +22,7 @@ namespace {
 
 // Chunk boundaries 0 = b_0 < b_1 < ... < b_m = n: row i holds n - i pairs, so the first rows
 // are the dearest; each chunk gets about total / (8 x ranks) pairs and at least `min_rows`
-// rows, enough chunks for the dynamic hand-out to even out uneven pairs.
+// rows (the threads of a rank), enough chunks for the dynamic hand-out to even out uneven pairs.
 std::vector<int> chunk_bounds(int n, int ranks, int min_rows) {
     const double total = 0.5 * n * (n + 1.0);
     const double target = total / (8.0 * ranks);
@@ -139,12 +140,15 @@ FormFactors compute_across(Cluster& cluster, int threads, const Scene& scene, co
                 threads,
                 {}};
     const int n = geometry.patch_count();
-    order.bounds = chunk_bounds(n, cluster.size(), std::max(1, threads));
+    // At least one row per thread in a chunk, so that every thread of a rank has a row.
+    order.bounds = chunk_bounds(n, cluster.size(), threads > 0 ? threads : tbb::info::default_concurrency());
+    // Everything that can fail here (the n x n allocation) before the other ranks are told:
+    // once they have the order, only run_farm may end it.
+    const FormFactorRows rows(geometry, options);
+    FormFactors ff = rows.zeros();
     const Bytes bytes = encode(order);
     for (int r = 1; r < cluster.size(); ++r) cluster.send(r, kTagOrder, bytes);
 
-    const FormFactorRows rows(geometry, options);
-    FormFactors ff = rows.zeros();
     FormFactorStats here, there;
     const int chunks = static_cast<int>(order.bounds.size()) - 1;
     run_farm(cluster, {chunks,
