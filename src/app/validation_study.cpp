@@ -74,7 +74,7 @@ Case opposed(Sampler& s) {
     return {"opposed rectangles", fmt::format("a {:.3g}, b {:.3g}, c {:.3g}, scale {:.1e}", a, b, c, k),
             quad("lo", k * Vec3(0, 0, 0), k * Vec3(a, 0, 0), k * Vec3(a, b, 0), k * Vec3(0, b, 0)) +
                 quad("hi", k * Vec3(0, 0, c), k * Vec3(0, b, c), k * Vec3(a, b, c), k * Vec3(a, 0, c)),
-            analytic::parallel_rectangles(a, b, c), entry01};
+            static_cast<double>(analytic::parallel_rectangles<long double>(a, b, c)), entry01};
 }
 
 // Howell C-14, and with a gap g between the rectangles' shared edge lines (superposition).
@@ -87,8 +87,8 @@ Case perpendicular(Sampler& s, bool gap) {
         fmt::format("l {:.3g}, w {:.3g}, h {:.3g}, gap {:.3g}, scale {:.1e}", l, w, h, g, k),
         quad("floor", k * Vec3(0, 0, 0), k * Vec3(l, 0, 0), k * Vec3(l, w, 0), k * Vec3(0, w, 0)) +
             quad("wall", k * Vec3(0, 0, g), k * Vec3(0, 0, g + h), k * Vec3(l, 0, g + h), k * Vec3(l, 0, g)),
-        gap ? analytic::perpendicular_rectangles_gap(l, w, g, h)
-            : analytic::perpendicular_rectangles(l, w, h),
+        static_cast<double>(gap ? analytic::perpendicular_rectangles_gap<long double>(l, w, g, h)
+                                : analytic::perpendicular_rectangles<long double>(l, w, h)),
         entry01};
 }
 
@@ -100,8 +100,9 @@ Case sphere_to_rectangle(Sampler& s) {
     const double r = s.log_uniform(0.1, 1), h = r * (1.0 + s.log_uniform(1e-3, 10));
     const double a = h * s.log_uniform(0.1, 10), b = h * s.log_uniform(0.1, 10);
     const int ns = s.pick({1, 2, 4, 8}), nt = s.pick({1, 2, 4});
-    const double D1 = a / h, D2 = b / h;
-    const double exact = std::atan(D1 * D2 / std::sqrt(1 + D1 * D1 + D2 * D2)) / (4 * kPi);
+    const long double D1 = static_cast<long double>(a) / h, D2 = static_cast<long double>(b) / h;
+    const double exact = static_cast<double>(std::atan(D1 * D2 / std::sqrt(1 + D1 * D1 + D2 * D2)) /
+                                             (4 * analytic::kPiT<long double>));
     return {
         "sphere to rectangle",
         fmt::format("r {:.3g}, h {:.3g}, a {:.3g}, b {:.3g}, patches {}x{}", r, h, a, b, ns, nt),

@@ -4,33 +4,42 @@
 // tests and the `radiosa accuracy` study.
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "util/gauss_legendre.h"
 
 namespace radiosa::analytic {
 
+// The formulas take the floating-point type as a parameter: the validation study evaluates them
+// in long double (64-bit mantissa), so that their own rounding (up to 1e-13 at extreme aspect
+// ratios in double) is not counted against radiosa's estimates.
+template <class T>
+constexpr T kPiT = T(3.14159265358979323846264338327950288L);
+
 // Two directly opposed, parallel, equal rectangles a x b at distance c (Howell C-11).
-inline double parallel_rectangles(double a, double b, double c) {
-    const double X = a / c, Y = b / c;
-    const double pi = 3.14159265358979323846;
-    const double t1 = 0.5 * std::log((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y));
-    const double t2 = X * std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y));
-    const double t3 = Y * std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X));
-    return 2.0 / (pi * X * Y) * (t1 + t2 + t3 - X * std::atan(X) - Y * std::atan(Y));
+template <class T = double>
+inline T parallel_rectangles(std::type_identity_t<T> a, std::type_identity_t<T> b,
+                             std::type_identity_t<T> c) {
+    const T X = a / c, Y = b / c;
+    const T t1 = T(0.5) * std::log((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y));
+    const T t2 = X * std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y));
+    const T t3 = Y * std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X));
+    return T(2) / (kPiT<T> * X * Y) * (t1 + t2 + t3 - X * std::atan(X) - Y * std::atan(Y));
 }
 
 // From rectangle 1 (l x w) to rectangle 2 (l x h), perpendicular, sharing the edge of
 // length l (Howell C-14).
-inline double perpendicular_rectangles(double l, double w, double h) {
-    const double W = w / l, H = h / l;
-    const double pi = 3.14159265358979323846;
-    const double W2 = W * W, H2 = H * H, R2 = W2 + H2, R = std::sqrt(R2);
-    const double a = W * std::atan(1 / W) + H * std::atan(1 / H) - R * std::atan(1 / R);
-    const double l1 = std::log((1 + W2) * (1 + H2) / (1 + R2));
-    const double l2 = W2 * std::log(W2 * (1 + R2) / ((1 + W2) * R2));
-    const double l3 = H2 * std::log(H2 * (1 + R2) / ((1 + H2) * R2));
-    return (a + 0.25 * (l1 + l2 + l3)) / (pi * W);
+template <class T = double>
+inline T perpendicular_rectangles(std::type_identity_t<T> l, std::type_identity_t<T> w,
+                                  std::type_identity_t<T> h) {
+    const T W = w / l, H = h / l;
+    const T W2 = W * W, H2 = H * H, R2 = W2 + H2, R = std::sqrt(R2);
+    const T a = W * std::atan(1 / W) + H * std::atan(1 / H) - R * std::atan(1 / R);
+    const T l1 = std::log((1 + W2) * (1 + H2) / (1 + R2));
+    const T l2 = W2 * std::log(W2 * (1 + R2) / ((1 + W2) * R2));
+    const T l3 = H2 * std::log(H2 * (1 + R2) / ((1 + H2) * R2));
+    return (a + T(0.25) * (l1 + l2 + l3)) / (kPiT<T> * W);
 }
 
 // From unit square A on the floor (x in [0,1]) to unit square D on the wall that touches A
@@ -42,8 +51,10 @@ inline double perpendicular_squares_corner() {
 
 // From a w x l floor rectangle to the l-wide strip of the perpendicular wall between heights
 // g and g + h above the shared edge line (a gap g between them): C-14 twice.
-inline double perpendicular_rectangles_gap(double l, double w, double g, double h) {
-    return perpendicular_rectangles(l, w, g + h) - perpendicular_rectangles(l, w, g);
+template <class T = double>
+inline T perpendicular_rectangles_gap(std::type_identity_t<T> l, std::type_identity_t<T> w,
+                                      std::type_identity_t<T> g, std::type_identity_t<T> h) {
+    return perpendicular_rectangles<T>(l, w, g + h) - perpendicular_rectangles<T>(l, w, g);
 }
 
 // From a point to a rectangle [x0, x1] x [y0, y1] in a parallel plane at distance c, facing it,

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "util/gauss_legendre.h"
@@ -14,15 +15,26 @@ namespace radiosa {
 struct Rect {
     double s0, s1, t0, t1;
     // Halves along s (dir 0) or t (dir 1).
-    std::array<Rect, 2> halves(int dir) const {
+    std::array<Rect, 2> halves(int dir) const { return cut(dir, std::numeric_limits<double>::quiet_NaN()); }
+    // The two parts either side of s = at (dir 0) or t = at (dir 1); the midpoint when `at` is NaN.
+    std::array<Rect, 2> cut(int dir, double at) const {
         if (dir == 0) {
-            const double m = 0.5 * (s0 + s1);
+            const double m = std::isnan(at) ? 0.5 * (s0 + s1) : at;
             return {Rect{s0, m, t0, t1}, Rect{m, s1, t0, t1}};
         }
-        const double m = 0.5 * (t0 + t1);
+        const double m = std::isnan(at) ? 0.5 * (t0 + t1) : at;
         return {Rect{s0, s1, t0, m}, Rect{s0, s1, m, t1}};
     }
 };
+
+// A split a geometric rule demands: along s (dir 0) or t (dir 1), at `at` (NaN: the midpoint);
+// dir -1 demands none. Rules that only ever split at midpoints may return the direction alone.
+struct Cut {
+    int dir = -1;
+    double at = std::numeric_limits<double>::quiet_NaN();
+};
+inline Cut as_cut(int dir) { return Cut{dir}; }
+inline Cut as_cut(Cut c) { return c; }
 
 struct Estimate {
     double value = 0.0;
@@ -68,14 +80,15 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     };
     struct Region {
         Rect r;
-        std::array<double, 2> half;  // the halves along `dir`
+        std::array<double, 2> half;  // the two parts along `dir` (cut at `at`)
         int dir;
+        double at;
         bool forced;
         double fine, err;
         double key() const { return forced ? std::numeric_limits<double>::infinity() : err; }
     };
     auto make = [&](const Rect& r, double coarse) {
-        Region reg{r, {}, 0, false, 0.0, 0.0};
+        Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, 0.0, 0.0};
         std::array<std::array<double, 2>, 2> h;
         std::array<double, 2> e;
         for (int d = 0; d < 2; ++d) {
@@ -83,10 +96,16 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
             h[d] = {gauss(hv[0]), gauss(hv[1])};
             e[d] = std::abs(h[d][0] + h[d][1] - coarse);
         }
-        const int forced = geometric(r, h[0][0] + h[0][1]);
-        reg.forced = forced >= 0;
-        reg.dir = reg.forced ? forced : (e[1] > e[0] ? 1 : 0);
+        const Cut forced = as_cut(geometric(r, h[0][0] + h[0][1]));
+        reg.forced = forced.dir >= 0;
+        reg.dir = reg.forced ? forced.dir : (e[1] > e[0] ? 1 : 0);
         reg.half = h[reg.dir];
+        if (reg.forced && !std::isnan(forced.at)) {
+            // A cut along a known feature (an event line): the parts either side of it.
+            reg.at = forced.at;
+            const auto parts = r.cut(reg.dir, reg.at);
+            reg.half = {gauss(parts[0]), gauss(parts[1])};
+        }
         reg.fine = reg.half[0] + reg.half[1];
         // Never claim more than round-off allows: rules that happen to agree exactly still
         // carry the rounding of their sums.
@@ -104,16 +123,23 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     };
     auto lower = [](const Region& a, const Region& b) { return a.key() < b.key(); };
     std::vector<Region> heap{make(root, gauss(root))};
-    double err = heap[0].err;
+    double err = heap[0].err, value = heap[0].fine;
+    // The value when half the regions had been spent: if the cap stops the refinement, how much
+    // the value still moved over the second half bounds the error from below, where the
+    // regions' own estimates (which assume convergence) may not.
+    std::optional<double> value_at_half;
     while ((err > tol || heap.front().forced) && static_cast<int>(heap.size()) < max_regions) {
+        if (!value_at_half && 2 * static_cast<int>(heap.size()) >= max_regions) value_at_half = value;
         std::pop_heap(heap.begin(), heap.end(), lower);
         const Region top = heap.back();
         heap.pop_back();
-        const auto hv = top.r.halves(top.dir);
+        const auto hv = top.r.cut(top.dir, top.at);
         err -= top.err;
+        value -= top.fine;
         for (int k = 0; k < 2; ++k) {
             heap.push_back(make(hv[k], top.half[k]));
             err += heap.back().err;
+            value += heap.back().fine;
             std::push_heap(heap.begin(), heap.end(), lower);
         }
     }
@@ -124,6 +150,7 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     }
     e.regions = static_cast<int>(heap.size());
     e.capped = e.error > tol || heap.front().forced;
+    if (e.capped && value_at_half) e.error = std::max(e.error, kSafety * std::abs(e.value - *value_at_half));
     return e;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -58,12 +59,30 @@ public:
                 if (l != k) edges_vertices(occ[k], occ[l]);
         }
     }
+    // The receiver's own plane (x passing behind it). `n` need not be unit.
+    void add_plane(const Vec3& n, const Vec3& p) { m_planes.push_back({n, p}); }
     bool empty() const { return m_horizons.empty() && m_planes.empty() && m_cones.empty(); }
 
-    // Does an event cross the region? Signs at a 3 x 3 grid of its points.
+    // Does an event cross the region? Planes, and the horizons of a sphere (x's tangent plane
+    // passes v where (x - c) . (v - c) = R^2: a plane too), exactly, from the range of a . x
+    // over the region (Surface::linear_range: a feature between sample points cannot hide);
+    // cones and the horizons of other curved surfaces from the signs at a 3 x 3 grid of points.
     bool crosses(const Surface& si, const Rect& r) const {
         if (empty()) return false;
-        const std::size_t n = m_horizons.size() + m_planes.size() + m_cones.size();
+        auto straddles = [&](const Vec3& a, double offset) {
+            const auto [lo, hi] = si.linear_range(a, r.s0, r.s1, r.t0, r.t1);
+            return lo < offset && offset < hi;
+        };
+        for (const auto& [nrm, p] : m_planes)
+            if (straddles(nrm, glm::dot(nrm, p))) return true;
+        const std::optional<BoundingSphere> ball = si.sphere();
+        if (ball)
+            for (const Vec3& v : m_horizons) {
+                const Vec3 a = v - ball->center;
+                if (straddles(a, glm::dot(a, ball->center) + ball->radius * ball->radius)) return true;
+            }
+        const std::size_t n = (ball ? 0 : m_horizons.size()) + m_cones.size();
+        if (n == 0) return false;
         std::vector<signed char> sign(n, 0), mixed(n, 0);
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b) {
@@ -78,11 +97,10 @@ public:
                         mixed[k] = 1;
                     ++k;
                 };
-                if (!m_horizons.empty()) {
+                if (!ball && !m_horizons.empty()) {
                     const Vec3 nx = si.normal(s, t);
                     for (const Vec3& v : m_horizons) note(glm::dot(nx, v - x));
                 }
-                for (const auto& [nrm, p] : m_planes) note(glm::dot(nrm, x - p));
                 for (const Cone& c : m_cones) {
                     const Vec3 d = x - c.apex;
                     const double along = glm::dot(d, c.axis);
@@ -90,6 +108,43 @@ public:
                 }
             }
         return std::any_of(mixed.begin(), mixed.end(), [](signed char m) { return m != 0; });
+    }
+
+    // Where to cut the region so that a plane event runs along the cut instead of through a
+    // region (planar patches only, where a plane meets the patch in a straight line): the first
+    // plane that enters through one pair of opposite edges and leaves through the other within
+    // a tenth of the region's width of the same parameter. Nested rules cannot see a kink
+    // that no node lies beyond; after the cut the kink is on an edge, where it costs nothing.
+    Cut cut_along(const Surface& si, const Rect& r) const {
+        if (m_planes.empty() || !si.plane()) return {};
+        const Vec3 p00 = si.point(r.s0, r.t0), p10 = si.point(r.s1, r.t0), p01 = si.point(r.s0, r.t1),
+                   p11 = si.point(r.s1, r.t1);
+        const double size =
+            std::max({glm::length(p10 - p00), glm::length(p01 - p00), glm::length(p11 - p00)});
+        for (const auto& [nrm, p] : m_planes) {
+            const double scale = glm::length(nrm) * size * 1e-12;
+            auto f = [&](const Vec3& x) {
+                const double v = glm::dot(nrm, x - p);
+                return std::abs(v) <= scale ? 0.0 : v;
+            };
+            const double f00 = f(p00), f10 = f(p10), f01 = f(p01), f11 = f(p11);
+            // a . P is linear along each edge of a bilinear patch: where it crosses zero.
+            auto root = [](double fa, double fb, double a, double b) -> std::optional<double> {
+                if (!((fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0))) return std::nullopt;
+                return a + (b - a) * fa / (fa - fb);
+            };
+            for (int dir = 0; dir < 2; ++dir) {
+                const auto a = dir == 0 ? root(f00, f10, r.s0, r.s1) : root(f00, f01, r.t0, r.t1);
+                const auto b = dir == 0 ? root(f01, f11, r.s0, r.s1) : root(f10, f11, r.t0, r.t1);
+                if (!a || !b) continue;
+                const double lo = dir == 0 ? r.s0 : r.t0, hi = dir == 0 ? r.s1 : r.t1;
+                const double at = 0.5 * (*a + *b);
+                if (std::abs(*a - *b) <= 0.1 * (hi - lo) && at > lo + 1e-9 * (hi - lo) &&
+                    at < hi - 1e-9 * (hi - lo))
+                    return Cut{dir, at};
+            }
+        }
+        return {};
     }
 
 private:

@@ -404,31 +404,49 @@ public:
         // between its Gauss nodes (patches a hair apart): split it along the direction in which
         // that distance changes most, until it is no larger than the distance. Touching
         // patches (distance 0) are left to the error estimate: their integrand is bounded.
-        auto geometric = [&](const Rect& r, double) {
+        EventSet events;
+        if (!pi.polygon) {
+            events.add_horizons(v);
+            // Points of a curved patch may pass behind the receiver's plane.
+            events.add_plane(glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]),
+                             v[0]);
+        }
+        if (b) events.add_sphere(v, *b);
+        events.add_flats(v, shadow.flats);
+        auto geometric = [&](const Rect& r, double fine) {
             // A shadow's edge makes the integrand only once differentiable where it sweeps
             // across the patch; nested estimates on the whole patch can miss that, so shadowed
             // pairs start from quarters.
             if (b || !shadow.flats.empty()) {
-                if (r.s1 - r.s0 > 0.5 * (pi.s1 - pi.s0) * (1 + 1e-12)) return 0;
-                if (r.t1 - r.t0 > 0.5 * (pi.t1 - pi.t0) * (1 + 1e-12)) return 1;
+                if (r.s1 - r.s0 > 0.5 * (pi.s1 - pi.s0) * (1 + 1e-12)) return Cut{0};
+                if (r.t1 - r.t0 > 0.5 * (pi.t1 - pi.t0) * (1 + 1e-12)) return Cut{1};
+            }
+            if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
+            // Every node of the region sees nothing, yet an event crosses it: a sliver of it sees
+            // the receiver past a horizon (the top of a sphere grazing a long floor). Split it
+            // until its nodes find the sliver, down to 1e-6 of the patch.
+            if (fine == 0.0 && !events.empty() &&
+                std::max((r.s1 - r.s0) / (pi.s1 - pi.s0), (r.t1 - r.t0) / (pi.t1 - pi.t0)) > 1e-6 &&
+                events.crosses(si, r)) {
+                const double ls = glm::length(si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
+                                              si.point(r.s0, 0.5 * (r.t0 + r.t1))),
+                             lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
+                                              si.point(0.5 * (r.s0 + r.s1), r.t0));
+                return Cut{ls >= lt ? 0 : 1};
             }
             const Vec3 c00 = si.point(r.s0, r.t0), c10 = si.point(r.s1, r.t0), c01 = si.point(r.s0, r.t1),
                        c11 = si.point(r.s1, r.t1);
             const double d00 = distance_to_polygon(c00, v), d10 = distance_to_polygon(c10, v),
                          d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
             const double dmin = std::min({d00, d10, d01, d11});
-            if (!(dmin > 0.0)) return -1;
+            if (!(dmin > 0.0)) return Cut{};
             const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01),
                          var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
             const int dir = var_t > var_s ? 1 : 0;
             const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
                                          : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
-            return size > dmin ? dir : -1;
+            return Cut{size > dmin ? dir : -1};
         };
-        EventSet events;
-        if (!pi.polygon) events.add_horizons(v);
-        if (b) events.add_sphere(v, *b);
-        events.add_flats(v, shadow.flats);
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area);
         return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, kMaxOuterRegions, m_outer,
                              geometric, [&](const Rect& r, double fine) {
@@ -458,7 +476,11 @@ public:
         };
         // Does some segment from the region to patch j meet an occluder? Every such segment
         // lies in the convex hull of the region's corners and j's.
-        auto reaches = [&](const Rect& r) {
+        // The region is shrunk by 1e-6 of its size first: after a cut along a shadow's edge, the
+        // region on the lit side touches that edge's plane and would "reach" at its boundary.
+        auto reaches = [&](const Rect& full) {
+            const double ds = 1e-6 * (full.s1 - full.s0), dt = 1e-6 * (full.t1 - full.t0);
+            const Rect r{full.s0 + ds, full.s1 - ds, full.t0 + dt, full.t1 - dt};
             const std::array<Vec3, 8> hull = {si.point(r.s0, r.t0),
                                               si.point(r.s1, r.t0),
                                               si.point(r.s1, r.t1),
@@ -482,16 +504,18 @@ public:
         // (down to 1e-6 of the patch).
         const double s_len = glm::length(si.point(pi.s1, pi.t0) - si.point(pi.s0, pi.t0)),
                      t_len = glm::length(si.point(pi.s0, pi.t1) - si.point(pi.s0, pi.t0));
-        auto quarters = [&](const Rect& r, double fine) {
-            const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
-            if (ws > 0.5 * (1 + 1e-12)) return 0;
-            if (wt > 0.5 * (1 + 1e-12)) return 1;
-            if (fine != 0.0 || std::max(ws, wt) < 1e-6 || !reaches(r)) return -1;
-            return ws * s_len >= wt * t_len ? 0 : 1;
-        };
         EventSet events;
         if (shadow.sphere) events.add_sphere(vj, *shadow.sphere);
         events.add_flats(vj, shadow.flats);
+        auto quarters = [&](const Rect& r, double fine) {
+            const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
+            if (ws > 0.5 * (1 + 1e-12)) return Cut{0};
+            if (wt > 0.5 * (1 + 1e-12)) return Cut{1};
+            if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
+            // No event crossing the region: whether x sees the shadow cannot change inside it.
+            if (fine != 0.0 || std::max(ws, wt) < 1e-6 || !reaches(r) || !events.crosses(si, r)) return Cut{};
+            return Cut{ws * s_len >= wt * t_len ? 0 : 1};
+        };
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area) - open.error;
         const double fraction = shadow.sphere ? kSphereKinkFraction : kFlatKinkFraction;
         Estimate hidden =

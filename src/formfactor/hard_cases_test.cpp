@@ -297,6 +297,55 @@ TEST(HardCases, PlateMidwayBetweenParallelSquaresCentredAndOffCentre) {
     }
 }
 
+// A plate overhanging the squares' edge: its shadow on the far square ends (width 0) where x
+// crosses the plane through the plate's edge and the far square's edge, 1.5 per mille of a
+// region's width from the region's edge. No Gauss node lay beyond that kink, so every nested
+// rule (halves, thirds) agreed on a value 1.7e-7 off while the estimate said 1e-10. Cut along
+// the event, both directions are within 1e-11 and within their estimates.
+TEST(HardCases, PlateOverhangingAnEdgeIsCutAlongItsShadowsEnd) {
+    const Scene s = scene_of(quad("lower", test::kFloor) +
+                             quad("upper", "[[0, 0, 0.41], [0, 1, 0.41], [1, 1, 0.41], [1, 0, 0.41]]") +
+                             quad("plate",
+                                  "[[-0.111, 0.1, 0.174], [0.251, 0.1, 0.174], [0.251, 0.5, 0.174], "
+                                  "[-0.111, 0.5, 0.174]]"));
+    const double exact = analytic::parallel_squares_with_plate(0.41, 0.174, -0.111, 0.251, 0.1, 0.5);
+    for (double tol : {1e-8, 1e-10}) {
+        SCOPED_TRACE(testing::Message() << "tolerance " << tol);
+        const FormFactors ff = adaptive(s, tol);
+        EXPECT_EQ(ff.stats.capped, 0);
+        for (auto [i, j] : {std::pair{0, 1}, std::pair{1, 0}}) {
+            EXPECT_LE(std::abs(ff.F(i, j) - exact), std::max(tol, 1e-11));
+            EXPECT_LE(std::abs(ff.F(i, j) - exact), err_of(ff, i, j) + 1e-15);
+        }
+    }
+}
+
+// A sphere above the corner of a long, thin rectangle: the top of the sphere sees the far end
+// past its horizon through a sliver that no node of a hemisphere-sized region lay in, so
+// 1.3e-8 of F was missing at every tolerance. The area-weighted sum over the sphere's patches
+// is F(sphere -> rectangle) = atan(D1 D2 / sqrt(1 + D1^2 + D2^2)) / 4 pi, D = a / h, b / h.
+TEST(HardCases, SphereSeesALongFloorPastItsHorizon) {
+    const double r = 0.298, h = 0.743, a = 5.44, b = 0.332;
+    const double D1 = a / h, D2 = b / h,
+                 exact = std::atan(D1 * D2 / std::sqrt(1 + D1 * D1 + D2 * D2)) / (4 * kPi);
+    for (int nt : {1, 2}) {
+        const Scene s =
+            scene_of(quad("rect", "[[0, 0, 0], [5.44, 0, 0], [5.44, 0.332, 0], [0, 0.332, 0]]") +
+                     "  - {name: ball, type: sphere, center: [0, 0, 0.743], radius: 0.298, patches: [1, " +
+                     std::to_string(nt) + "], reflectance: [0, 0, 0]}\n");
+        const FormFactors ff = adaptive(s, 1e-10);
+        double value = 0.0, estimate = 0.0, area = 0.0;
+        for (int i = 1; i < ff.F.n; ++i) {
+            value += ff.area[i] * ff.F(i, 0);
+            estimate += ff.area[i] * err_of(ff, i, 0);
+            area += ff.area[i];
+        }
+        EXPECT_NEAR(area, 4 * kPi * r * r, 1e-12);
+        EXPECT_LE(std::abs(value / area - exact), 1e-11) << nt;
+        EXPECT_LE(std::abs(value / area - exact), estimate / area + 1e-15) << nt;
+    }
+}
+
 }  // namespace radiosa
 
 namespace radiosa {

@@ -23,6 +23,13 @@ QuadSurface::QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const V
 
 Vec3 QuadSurface::point(double s, double t) const { return m_p0 + s * m_e + t * m_f + s * t * m_g; }
 
+std::pair<double, double> QuadSurface::linear_range(const Vec3& a, double s0, double s1, double t0,
+                                                    double t1) const {
+    const double v[4] = {glm::dot(a, point(s0, t0)), glm::dot(a, point(s1, t0)), glm::dot(a, point(s0, t1)),
+                         glm::dot(a, point(s1, t1))};
+    return {std::min({v[0], v[1], v[2], v[3]}), std::max({v[0], v[1], v[2], v[3]})};
+}
+
 void QuadSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
     *dPds = m_e + t * m_g;
     *dPdt = m_f + s * m_g;

@@ -17,6 +17,9 @@ public:
                                         HitSide side) const override;
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
+    // Bilinear in (s, t): the extremes lie at the corners.
+    std::pair<double, double> linear_range(const Vec3& a, double s0, double s1, double t0,
+                                           double t1) const override;
     std::optional<Plane> plane() const override { return m_plane; }
     bool patches_are_polygons() const override { return true; }
     bool chords_never_cross() const override { return true; }

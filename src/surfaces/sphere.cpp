@@ -66,6 +66,36 @@ double SphereSurface::area(double s0, double s1, double t0, double t1) const {
     return m_radius * m_radius * dphi * (std::cos(kPi * (1.0 - t1)) - std::cos(kPi * (1.0 - t0)));
 }
 
+namespace {
+
+// The range of amp * cos(x - phase) over [lo, hi] (amp >= 0).
+std::pair<double, double> cosine_range(double amp, double phase, double lo, double hi) {
+    double a = amp * std::cos(lo - phase), b = amp * std::cos(hi - phase);
+    std::pair<double, double> r{std::min(a, b), std::max(a, b)};
+    // The peaks phase + 2 pi k and troughs phase + pi + 2 pi k inside (lo, hi).
+    const double k_max = std::ceil((lo - phase) / (2.0 * kPi));
+    if (phase + 2.0 * kPi * k_max < hi) r.second = amp;
+    const double k_min = std::ceil((lo - phase - kPi) / (2.0 * kPi));
+    if (phase + kPi + 2.0 * kPi * k_min < hi) r.first = -amp;
+    return r;
+}
+
+}  // namespace
+
+std::pair<double, double> SphereSurface::linear_range(const Vec3& a, double s0, double s1, double t0,
+                                                      double t1) const {
+    // a . (P - c) / R = sin(theta) A(phi) + a_z cos(theta), A(phi) = a_x cos(phi) + a_y sin(phi),
+    // with sin(theta) >= 0: for each theta the extremes take A's extremes over the azimuths.
+    const double rho = std::hypot(a.x, a.y);
+    const auto [amin, amax] = cosine_range(rho, std::atan2(a.y, a.x), 2.0 * kPi * s0, 2.0 * kPi * s1);
+    const double th0 = kPi * (1.0 - t1), th1 = kPi * (1.0 - t0);
+    // g(theta) = A sin(theta) + a_z cos(theta) = |(A, a_z)| cos(theta - atan2(A, a_z)).
+    const double lo = cosine_range(std::hypot(amin, a.z), std::atan2(amin, a.z), th0, th1).first;
+    const double hi = cosine_range(std::hypot(amax, a.z), std::atan2(amax, a.z), th0, th1).second;
+    const double c = glm::dot(a, m_center);
+    return {c + m_radius * lo, c + m_radius * hi};
+}
+
 BoundingSphere SphereSurface::bound(double, double, double, double) const {
     // Conservative: the whole sphere. Only used to cull pairs and occluders, so a loose
     // bound costs a little time, never accuracy.

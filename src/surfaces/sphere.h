@@ -14,6 +14,9 @@ public:
                                         HitSide side) const override;
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
+    // Exact: a . P is A(phi) sin(theta) + a_z cos(theta), each factor a shifted cosine.
+    std::pair<double, double> linear_range(const Vec3& a, double s0, double s1, double t0,
+                                           double t1) const override;
     std::optional<BoundingSphere> sphere() const override { return BoundingSphere{m_center, m_radius}; }
     bool chords_never_cross() const override { return true; }
     bool front_segments_escape() const override { return m_orientation > 0.0; }

@@ -5,6 +5,7 @@
 // anywhere in radiosa.
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "util/bytes.h"
 #include "util/math.h"
@@ -47,6 +48,15 @@ public:
     virtual double area(double s0, double s1, double t0, double t1) const = 0;
     // A sphere containing the image of the parameter rectangle.
     virtual BoundingSphere bound(double s0, double s1, double t0, double t1) const = 0;
+    // The range [min, max] of a . P(s, t) over the parameter rectangle: where a plane with normal
+    // a meets the region (form-factor events, formfactor/events.h). Exact for the built-in types;
+    // this default, from bound(), may be wider but never narrower.
+    virtual std::pair<double, double> linear_range(const Vec3& a, double s0, double s1, double t0,
+                                                   double t1) const {
+        const BoundingSphere b = bound(s0, s1, t0, t1);
+        const double m = glm::dot(a, b.center), r = glm::length(a) * b.radius;
+        return {m - r, m + r};
+    }
     // The supporting plane of a planar surface.
     virtual std::optional<Plane> plane() const { return std::nullopt; }
     // True when every patch is exactly the convex polygon of its four corner points P(s0,t0),
