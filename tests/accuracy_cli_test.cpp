@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -77,6 +78,45 @@ TEST(AccuracyCli, ValidationStudyEstimatesCoverTheErrorsAtModerateTolerances) {
     EXPECT_EQ(rows, (5 * 6 + 2) * 4);  // 5 families x 6, 2 spheres' insides, 4 tolerances each
     EXPECT_EQ(checked, rows / 2);
     EXPECT_NE(out.str().find("checking half: error within its estimate"), std::string::npos);
+    fs::remove_all(d);
+}
+
+// `accuracy --radiosity --quick`: both scenes, both methods; the adaptive rows' reported bound
+// covers the measured error of B (against the reference, within the reference's own bound),
+// the stiff scene's error is larger than the seed scene's at the same tolerance (the 1/(1 - rho)
+// amplification), and the fixed rule's rows have no bound.
+TEST(AccuracyCli, RadiosityStudyBoundsCoverTheErrorOfB) {
+    const fs::path d = fs::temp_directory_path() / "radiosa_radiosity_study";
+    fs::remove_all(d);
+    const std::string outdir = d.string();
+    const char* argv[] = {"radiosa", "accuracy", "--radiosity", "--quick", "--out", outdir.c_str()};
+    std::ostringstream out, err;
+    ASSERT_EQ(run_cli(6, argv, out, err), 0) << err.str();
+    std::ifstream csv(d / "radiosity.csv");
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "scene,method,setting,form_factors_s,solve_s,total_s,error,bound,reference_bound");
+    int rows = 0;
+    std::map<std::string, double> adaptive_error;
+    while (std::getline(csv, line)) {
+        ++rows;
+        std::vector<std::string> f;
+        std::istringstream in(line);
+        for (std::string x; std::getline(in, x, ',');) f.push_back(x);
+        if (f.size() == 8) f.insert(f.begin() + 7, "");  // an empty bound at the end of a split
+        ASSERT_EQ(f.size(), 9u) << line;
+        const double error = std::stod(f[6]), reference_bound = std::stod(f[8]);
+        EXPECT_GE(error, 0.0) << line;
+        if (f[1] == "gauss") {
+            EXPECT_TRUE(f[7].empty()) << line;
+        } else {
+            ASSERT_FALSE(f[7].empty()) << line;
+            EXPECT_LE(error, std::stod(f[7]) + reference_bound) << line;
+            adaptive_error[f[0] + f[2]] = error;
+        }
+    }
+    EXPECT_EQ(rows, 2 * (2 + 2));  // 2 scenes x (2 Gauss orders + 2 tolerances)
+    EXPECT_GT(adaptive_error["stiff0.001"], 10 * adaptive_error["seed0.001"]);
     fs::remove_all(d);
 }
 

@@ -16,6 +16,8 @@ struct AccuracyJob {
     // many configurations per family.
     bool validation = false;
     int per_family = 50;
+    // --radiosity: the error of B against run time instead (app/radiosity_study.h).
+    bool radiosity = false;
 };
 
 // Runs the study, writes accuracy.csv and accuracy.md into out_dir (tools/plot-accuracy plots the CSV),

@@ -11,6 +11,7 @@
 #include "app/accuracy_cmd.h"
 #include "app/cache_cmd.h"
 #include "app/formfactors_cmd.h"
+#include "app/radiosity_study.h"
 #include "app/sequence_job.h"
 #include "app/still.h"
 #include "app/validation_study.h"
@@ -177,6 +178,10 @@ void add_accuracy_command(CLI::App& app, Commands* c) {
     c->accuracy->add_flag("--validation", job.validation,
                           "Instead: do the error estimates cover the true errors? Random configurations with "
                           "closed forms, a fitting and a checking half (validation.md, validation.csv)");
+    c->accuracy->add_flag(
+        "--radiosity", job.radiosity,
+        "Instead: the error of the radiosity B against run time (form factors + solve) for the "
+        "seed scene and its stiff variant, both methods (radiosity.md, radiosity.csv)");
     c->accuracy
         ->add_option("--per-family", job.per_family, "--validation: configurations per family (default 50)")
         ->check(CLI::Range(2, 10000));
@@ -281,7 +286,9 @@ int run_command(const CLI::App& app, Commands& c, const WarningSink& warn, std::
         return 0;
     }
     if (c.accuracy->parsed()) {
-        if (c.accuracy_job.validation)
+        if (c.accuracy_job.radiosity)
+            run_radiosity_study({c.accuracy_job.out_dir, c.accuracy_job.quick}, out);
+        else if (c.accuracy_job.validation)
             run_validation({c.accuracy_job.out_dir, c.accuracy_job.per_family, 1991}, out);
         else
             run_accuracy(c.accuracy_job, out);
