@@ -50,6 +50,37 @@ struct Row {
     double setting, form_factors_s, solve_s, error, bound;
 };
 
+// radiosity.csv (every measurement) and radiosity.md (the table docs/accuracy.md shows).
+void write_tables(const fs::path& dir, const std::vector<Row>& rows, const std::vector<Case>& cases,
+                  double reference_tol) {
+    std::ostringstream csv, md;
+    csv << "scene,method,setting,form_factors_s,solve_s,total_s,error,bound,reference_bound\n";
+    md << fmt::format(
+        "Reference: the same scenes with form factors at tolerance {:g}; its own bound is {:.1e} (seed) and "
+        "{:.1e} (stiff): errors below it are not resolved.\n\n",
+        reference_tol, cases[0].reference_bound, cases[1].reference_bound);
+    md << "| scene | method | setting | form factors + solve | max \\|B − B_ref\\| / max B | reported bound "
+          "| bound "
+          "covers it |\n|---|---|---|---|---|---|---|\n";
+    for (const Row& r : rows) {
+        const double ref_bound = r.scene == "seed" ? cases[0].reference_bound : cases[1].reference_bound;
+        csv << fmt::format("{},{},{:g},{:.6g},{:.6g},{:.6g},{:.6e},{},{:.6e}\n", r.scene, r.method, r.setting,
+                           r.form_factors_s, r.solve_s, r.form_factors_s + r.solve_s, r.error,
+                           r.bound < 0 ? std::string("") : fmt::format("{:.6e}", r.bound), ref_bound);
+        const std::string covers = r.bound < 0                      ? "(no estimates)"
+                                   : r.error <= r.bound + ref_bound ? "yes"
+                                                                    : "**no**";
+        md << fmt::format(
+            "| {} | {} | {} | {:.3f} s | {:.2e} | {} | {} |\n", r.scene,
+            r.method == "gauss" ? "fixed Gauss" : "adaptive",
+            r.method == "gauss" ? fmt::format("p = {:g}", r.setting) : fmt::format("{:g}", r.setting),
+            r.form_factors_s + r.solve_s, r.error,
+            r.bound < 0 ? std::string("–") : fmt::format("{:.2e}", r.bound), covers);
+    }
+    write_text_file(dir / "radiosity.csv", csv.str());
+    write_text_file(dir / "radiosity.md", md.str());
+}
+
 }  // namespace
 
 void run_radiosity_study(const RadiosityStudyJob& job, std::ostream& out) {
@@ -104,33 +135,8 @@ void run_radiosity_study(const RadiosityStudyJob& job, std::ostream& out) {
     for (int p : ps) run("gauss", p, FormFactorOptions::gauss(p));
     for (double t : tols) run("adaptive", t, FormFactorOptions::adaptive(t));
 
-    std::ostringstream csv, md;
-    csv << "scene,method,setting,form_factors_s,solve_s,total_s,error,bound,reference_bound\n";
-    md << fmt::format(
-        "Reference: the same scenes with form factors at tolerance {:g}; its own bound is {:.1e} (seed) and "
-        "{:.1e} (stiff): errors below it are not resolved.\n\n",
-        reference_tol, cases[0].reference_bound, cases[1].reference_bound);
-    md << "| scene | method | setting | form factors + solve | max \\|B − B_ref\\| / max B | reported bound "
-          "| bound "
-          "covers it |\n|---|---|---|---|---|---|---|\n";
-    for (const Row& r : rows) {
-        const double ref_bound = r.scene == "seed" ? cases[0].reference_bound : cases[1].reference_bound;
-        csv << fmt::format("{},{},{:g},{:.6g},{:.6g},{:.6g},{:.6e},{},{:.6e}\n", r.scene, r.method, r.setting,
-                           r.form_factors_s, r.solve_s, r.form_factors_s + r.solve_s, r.error,
-                           r.bound < 0 ? std::string("") : fmt::format("{:.6e}", r.bound), ref_bound);
-        const std::string covers = r.bound < 0                      ? "(no estimates)"
-                                   : r.error <= r.bound + ref_bound ? "yes"
-                                                                    : "**no**";
-        md << fmt::format(
-            "| {} | {} | {} | {:.3f} s | {:.2e} | {} | {} |\n", r.scene,
-            r.method == "gauss" ? "fixed Gauss" : "adaptive",
-            r.method == "gauss" ? fmt::format("p = {:g}", r.setting) : fmt::format("{:g}", r.setting),
-            r.form_factors_s + r.solve_s, r.error,
-            r.bound < 0 ? std::string("–") : fmt::format("{:.2e}", r.bound), covers);
-    }
     const fs::path dir(job.out_dir);
-    write_text_file(dir / "radiosity.csv", csv.str());
-    write_text_file(dir / "radiosity.md", md.str());
+    write_tables(dir, rows, cases, reference_tol);
     out << "wrote " << (dir / "radiosity.csv").string() << " and " << (dir / "radiosity.md").string()
         << " (plot them with tools/plot-radiosity)\n";
 }

@@ -8,6 +8,8 @@
 #include <optional>
 #include <vector>
 
+#include "geometry/scene_geometry.h"
+#include "surfaces/surface.h"
 #include "util/gauss_legendre.h"
 
 namespace radiosa {
@@ -35,6 +37,28 @@ struct Cut {
 };
 inline Cut as_cut(int dir) { return Cut{dir}; }
 inline Cut as_cut(Cut c) { return c; }
+
+// A quadrature point of a patch: its position and its normal scaled by the weight and by
+// the Jacobian of the map from [-1,1]^2 to the patch's parameter rectangle, so that
+// sum over points of f(x) |nw| approximates the integral of f over the patch area.
+struct QuadPoint {
+    Vec3 x;
+    Vec3 nw;
+};
+
+inline std::vector<QuadPoint> quadrature_points(const Surface& surf, const Patch& p, const GaussRule& rule) {
+    const int n = static_cast<int>(rule.x.size());
+    const double hs = 0.5 * (p.s1 - p.s0), ht = 0.5 * (p.t1 - p.t0);
+    std::vector<QuadPoint> pts;
+    pts.reserve(static_cast<size_t>(n) * n);
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+            const double s = p.s0 + hs * (rule.x[a] + 1.0);
+            const double t = p.t0 + ht * (rule.x[b] + 1.0);
+            pts.push_back({surf.point(s, t), surf.normal(s, t) * (rule.w[a] * rule.w[b] * hs * ht)});
+        }
+    return pts;
+}
 
 struct Estimate {
     double value = 0.0;
@@ -66,18 +90,21 @@ struct NoSuspects {
     bool operator()(const Rect&, double) const { return false; }
 };
 
+// The tensor Gauss rule over a region.
+template <class G>
+double tensor_gauss(const G& g, const Rect& r, const GaussRule& rule) {
+    const double hs = 0.5 * (r.s1 - r.s0), ht = 0.5 * (r.t1 - r.t0);
+    double sum = 0.0;
+    for (std::size_t b = 0; b < rule.x.size(); ++b)
+        for (std::size_t a = 0; a < rule.x.size(); ++a)
+            sum += rule.w[a] * rule.w[b] * g(r.s0 + hs * (rule.x[a] + 1.0), r.t0 + ht * (rule.x[b] + 1.0));
+    return sum * hs * ht;
+}
+
 template <class G, class Geo, class Sus = NoSuspects>
 Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions, const GaussRule& rule,
                        const Geo& geometric, const Sus& suspect = {}) {
-    auto gauss = [&](const Rect& r) {
-        const double hs = 0.5 * (r.s1 - r.s0), ht = 0.5 * (r.t1 - r.t0);
-        double sum = 0.0;
-        for (std::size_t b = 0; b < rule.x.size(); ++b)
-            for (std::size_t a = 0; a < rule.x.size(); ++a)
-                sum +=
-                    rule.w[a] * rule.w[b] * g(r.s0 + hs * (rule.x[a] + 1.0), r.t0 + ht * (rule.x[b] + 1.0));
-        return sum * hs * ht;
-    };
+    auto gauss = [&](const Rect& r) { return tensor_gauss(g, r, rule); };
     struct Region {
         Rect r;
         std::array<double, 2> half;  // the two parts along `dir` (cut at `at`)

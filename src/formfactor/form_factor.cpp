@@ -27,28 +27,6 @@ namespace radiosa {
 
 namespace {
 
-// A quadrature point of a patch: its position and its normal scaled by the weight and by
-// the Jacobian of the map from [-1,1]^2 to the patch's parameter rectangle, so that
-// sum over points of f(x) |nw| approximates the integral of f over the patch area.
-struct QuadPoint {
-    Vec3 x;
-    Vec3 nw;
-};
-
-std::vector<QuadPoint> quadrature_points(const Surface& surf, const Patch& p, const GaussRule& rule) {
-    const int n = static_cast<int>(rule.x.size());
-    const double hs = 0.5 * (p.s1 - p.s0), ht = 0.5 * (p.t1 - p.t0);
-    std::vector<QuadPoint> pts;
-    pts.reserve(static_cast<size_t>(n) * n);
-    for (int b = 0; b < n; ++b)
-        for (int a = 0; a < n; ++a) {
-            const double s = p.s0 + hs * (rule.x[a] + 1.0);
-            const double t = p.t0 + ht * (rule.x[b] + 1.0);
-            pts.push_back({surf.point(s, t), surf.normal(s, t) * (rule.w[a] * rule.w[b] * hs * ht)});
-        }
-    return pts;
-}
-
 // Signed distance range of a patch from a plane.
 std::pair<double, double> extent(const Patch& p, const Plane& plane) {
     if (p.polygon) {
@@ -62,13 +40,6 @@ std::pair<double, double> extent(const Patch& p, const Plane& plane) {
     }
     const double d = plane.signed_distance(p.bound.center);
     return {d - p.bound.radius, d + p.bound.radius};
-}
-
-double distance_to_segment(const Vec3& x, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(x - (a + t * ab));
 }
 
 class Integrator {
@@ -233,24 +204,6 @@ private:
 // meeting a corner breaks its slope, so those regions are always checked.
 constexpr double kSphereKinkFraction = 1e-4;
 constexpr double kFlatKinkFraction = 1.0;
-
-// Distance from x to a convex planar polygon.
-double distance_to_polygon(const Vec3& x, const std::array<Vec3, 4>& v) {
-    Vec3 m(0.0);
-    for (int k = 0; k < 4; ++k) m += glm::cross(v[k], v[(k + 1) % 4]);
-    const double ml = glm::length(m);
-    if (!(ml > 0.0)) return glm::length(x - v[0]);
-    m /= ml;
-    const double h = glm::dot(x - v[0], m);
-    const Vec3 p = x - h * m;
-    bool inside = true;
-    for (int k = 0; k < 4 && inside; ++k)
-        inside = glm::dot(glm::cross(v[(k + 1) % 4] - v[k], p - v[k]), m) >= 0.0;
-    if (inside) return std::abs(h);
-    double d = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 4; ++k) d = std::min(d, distance_to_segment(x, v[k], v[(k + 1) % 4]));
-    return d;
-}
 
 class AdaptiveIntegrator {
 public:

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "geometry/scene_geometry.h"
+#include "util/convex_distance.h"
 
 namespace radiosa {
 
@@ -69,26 +70,8 @@ bool polygons_cross(const std::array<Vec3, 4>& a, const std::array<Vec3, 4>& b, 
     return std::min(ia->second, ib->second) - std::max(ia->first, ib->first) > eps;
 }
 
-double distance_to_segment(const Vec3& x, const Vec3& a, const Vec3& b) {
-    const Vec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(x - (a + t * ab));
-}
-
 bool sphere_crosses_polygon(const BoundingSphere& s, const std::array<Vec3, 4>& v, double eps) {
-    const Vec3 n = normal_of(v);
-    const double h = glm::dot(s.center - v[0], n);
-    const Vec3 p = s.center - h * n;
-    bool inside = true;
-    for (int k = 0; k < 4 && inside; ++k)
-        inside = glm::dot(glm::cross(v[(k + 1) % 4] - v[k], p - v[k]), n) >= 0.0;
-    double nearest = std::abs(h);
-    if (!inside) {
-        nearest = INFINITY;
-        for (int k = 0; k < 4; ++k)
-            nearest = std::min(nearest, distance_to_segment(s.center, v[k], v[(k + 1) % 4]));
-    }
+    const double nearest = distance_to_polygon(s.center, v);
     double farthest = 0.0;
     for (const Vec3& c : v) farthest = std::max(farthest, glm::length(c - s.center));
     return nearest < s.radius - eps && farthest > s.radius + eps;

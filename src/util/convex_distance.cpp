@@ -113,4 +113,28 @@ double convex_distance(std::span<const Vec3> a, std::span<const Vec3> b, double 
     return lower;
 }
 
+double distance_to_segment(const Vec3& x, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(x - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(x - (a + t * ab));
+}
+
+double distance_to_polygon(const Vec3& x, const std::array<Vec3, 4>& v) {
+    Vec3 m(0.0);
+    for (int k = 0; k < 4; ++k) m += glm::cross(v[k], v[(k + 1) % 4]);
+    const double ml = glm::length(m);
+    if (!(ml > 0.0)) return glm::length(x - v[0]);
+    m /= ml;
+    const double h = glm::dot(x - v[0], m);
+    const Vec3 p = x - h * m;
+    bool inside = true;
+    for (int k = 0; k < 4 && inside; ++k)
+        inside = glm::dot(glm::cross(v[(k + 1) % 4] - v[k], p - v[k]), m) >= 0.0;
+    if (inside) return std::abs(h);
+    double d = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 4; ++k) d = std::min(d, distance_to_segment(x, v[k], v[(k + 1) % 4]));
+    return d;
+}
+
 }  // namespace radiosa
