@@ -121,7 +121,10 @@ public:
                    p11 = si.point(r.s1, r.t1);
         const double size =
             std::max({glm::length(p10 - p00), glm::length(p01 - p00), glm::length(p11 - p00)});
-        for (const auto& [nrm, p] : m_planes) {
+        for (const auto& plane : m_planes) {
+            // Named copies, not structured bindings: clang 14 cannot capture those in a lambda.
+            const Vec3& nrm = plane.first;
+            const Vec3& p = plane.second;
             const double scale = glm::length(nrm) * size * 1e-12;
             auto f = [&](const Vec3& x) {
                 const double v = glm::dot(nrm, x - p);
