@@ -52,4 +52,21 @@ inline nlohmann::json read_json(const std::filesystem::path& p) {
 
 inline const std::string kSeedScene = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
 
+// dir/seq.yaml: the seed scene over `duration` seconds at `fps`, a quarter orbit while face 3
+// dims and the ceiling patch lights up (events between 0.2 s and 0.8 s).
+inline std::filesystem::path write_short_sequence(const std::filesystem::path& dir, double fps,
+                                                  double duration) {
+    const std::filesystem::path p = dir / "seq.yaml";
+    std::ofstream(p) << "scene: " << kSeedScene << "\nfps: " << fps << "\nduration_s: " << duration << R"(
+camera:
+  keys:
+    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 85}
+    - {time_s: 1, distance: 6, theta_deg: 90, phi_deg: 85}
+events:
+  - {time_s: [0.2, 0.8], surface: face3, emission: [0, 0, 0]}
+  - {time_s: [0.2, 0.8], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
+)";
+    return p;
+}
+
 }  // namespace radiosa::test

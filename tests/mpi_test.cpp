@@ -64,19 +64,9 @@ std::vector<fs::path> files_under(const fs::path& dir) {
     return v;
 }
 
-// 24 frames: a quarter orbit while a wall dims and a ceiling patch lights up.
+// `frames` frames at 24 fps of test::write_short_sequence.
 fs::path write_sequence(const fs::path& dir, int frames) {
-    const fs::path p = dir / "seq.yaml";
-    std::ofstream(p) << "scene: " << kScene << "\nfps: 24\nduration_s: " << frames / 24.0 << R"(
-camera:
-  keys:
-    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 85}
-    - {time_s: 1, distance: 6, theta_deg: 90, phi_deg: 85}
-events:
-  - {time_s: [0.2, 0.8], surface: face3, emission: [0, 0, 0]}
-  - {time_s: [0.2, 0.8], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
-)";
-    return p;
+    return test::write_short_sequence(dir, 24, frames / 24.0);
 }
 
 // Kills rank `rank` of the job whose command line contains `marker`, once `ready` exists.

@@ -33,19 +33,8 @@ namespace {
 const std::string kScene = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
 const std::string kABC = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-abc.yaml";
 
-// A short sequence: a quarter orbit while face 3 dims and the ceiling patch lights up.
 fs::path write_sequence(const fs::path& dir, double fps, double duration) {
-    const fs::path p = dir / "seq.yaml";
-    std::ofstream(p) << "scene: " << kScene << "\nfps: " << fps << "\nduration_s: " << duration << R"(
-camera:
-  keys:
-    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 85}
-    - {time_s: 1, distance: 6, theta_deg: 90, phi_deg: 85}
-events:
-  - {time_s: [0.2, 0.8], surface: face3, emission: [0, 0, 0]}
-  - {time_s: [0.2, 0.8], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
-)";
-    return p;
+    return test::write_short_sequence(dir, fps, duration);
 }
 }  // namespace
 

@@ -41,7 +41,7 @@ std::vector<int> chunk_bounds(int n, int ranks, int min_rows) {
 struct Order {
     std::string scene_path;
     FormFactorOptions options;
-    CacheKey key;
+    CacheKey key;  // geometry_key of the scene rank 0 read
     int threads = 0;
     std::vector<int> bounds;
 };
@@ -134,11 +134,7 @@ void unpack_rows(std::span<const std::uint8_t> bytes, int begin, int end, FormFa
 FormFactors compute_across(Cluster& cluster, int threads, const Scene& scene, const SceneGeometry& geometry,
                            const FormFactorOptions& options) {
     const Stopwatch clock;
-    Order order{std::filesystem::absolute(scene.file).string(),
-                options,
-                form_factor_key(scene, options),
-                threads,
-                {}};
+    Order order{std::filesystem::absolute(scene.file).string(), options, geometry_key(scene), threads, {}};
     const int n = geometry.patch_count();
     // At least one row per thread in a chunk, so that every thread of a rank has a row.
     order.bounds = chunk_bounds(n, cluster.size(), threads > 0 ? threads : tbb::info::default_concurrency());
@@ -176,13 +172,7 @@ ComputeFormFactors form_factors_across(Cluster& cluster, int threads) {
 void serve_form_factors(Cluster& cluster, const Bytes& bytes) {
     const Order order = decode(bytes);
     const WorkerThreads limit(order.threads);
-    const Scene scene = load_worker_scene(cluster, order.scene_path);
-    if (!(form_factor_key(scene, order.options) == order.key))
-        cluster.abort(
-            fmt::format("rank {}: {} is not the scene rank 0 read (its geometry differs): every rank "
-                        "must see the same files",
-                        cluster.rank(), order.scene_path),
-            1);
+    const Scene scene = load_worker_scene(cluster, order.scene_path, order.key);
     const SceneGeometry geometry(scene);
     const FormFactorRows rows(geometry, order.options);
     FormFactors ff = rows.zeros();

@@ -22,9 +22,6 @@ namespace radiosa {
 
 namespace {
 
-// The geometry's identity: the cache key of its default form factors (it hashes every surface).
-CacheKey geometry_key(const Scene& scene) { return form_factor_key(scene, FormFactorOptions{}); }
-
 void put_rgbs(ByteWriter& w, const std::vector<Rgb>& v) {
     w.u64(v.size());
     if (!v.empty()) w.f64_array(&v[0][0], 3 * v.size());
@@ -191,13 +188,7 @@ void serve_frames(Cluster& cluster, const Bytes& bytes) {
     CacheKey key;
     const FrameOrder order = decode(bytes, &key);
     const WorkerThreads limit(order.threads);
-    const Scene scene = load_worker_scene(cluster, order.scene_path);
-    if (!(geometry_key(scene) == key))
-        cluster.abort(
-            fmt::format("rank {}: {} is not the scene rank 0 read (its geometry differs): every rank "
-                        "must see the same files",
-                        cluster.rank(), order.scene_path),
-            1);
+    const Scene scene = load_worker_scene(cluster, order.scene_path, key);
     const SceneGeometry geometry(scene);
     FrameRenderer renderer(geometry, order);
     serve_farm(cluster, [&](int k) { return pack(renderer.render(k)); });

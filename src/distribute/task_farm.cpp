@@ -64,7 +64,7 @@ private:
         const int k = static_cast<int>(r.i64());
         if (m_error) return;  // after a failure: drain, do not process
         try {
-            m_roles.take(k, m.from, std::span(m.bytes).subspan(9));
+            m_roles.take(k, m.from, std::span(m.bytes).subspan(r.pos()));
         } catch (...) {
             m_error = std::current_exception();
             m_next->store(m_roles.count);  // no more tasks for anyone

@@ -19,14 +19,24 @@ WorkerThreads::WorkerThreads(int threads) {
 }
 WorkerThreads::~WorkerThreads() = default;
 
-Scene load_worker_scene(Cluster& cluster, const std::string& path) {
+CacheKey geometry_key(const Scene& scene) { return form_factor_key(scene, FormFactorOptions{}); }
+
+Scene load_worker_scene(Cluster& cluster, const std::string& path, const CacheKey& geometry) {
+    Scene scene;
     try {
-        return load_scene(path);
+        scene = load_scene(path);
     } catch (const Error& e) {
         cluster.abort(fmt::format("rank {}: {} (rank 0 read it; every rank must see the same files)",
                                   cluster.rank(), e.what()),
                       1);
     }
+    if (!(geometry_key(scene) == geometry))
+        cluster.abort(
+            fmt::format("rank {}: {} is not the scene rank 0 read (its geometry differs): every rank "
+                        "must see the same files",
+                        cluster.rank(), path),
+            1);
+    return scene;
 }
 
 int serve_orders(Cluster& cluster) {

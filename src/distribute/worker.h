@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "cache/cache_file.h"
 #include "distribute/cluster.h"
 #include "scene/scene.h"
 
@@ -22,8 +23,13 @@ int serve_orders(Cluster& cluster);
 // Rank 0, when its command ends (however it ends): tells every other rank to exit.
 void release_workers(Cluster& cluster);
 
-// The scene at `path`, or the job ends with "rank r: <the error>".
-Scene load_worker_scene(Cluster& cluster, const std::string& path);
+// The identity of a scene's geometry: the cache key of its default form factors (it hashes
+// every surface). Rank 0 sends it with each order.
+CacheKey geometry_key(const Scene& scene);
+
+// The scene at `path`, checked to be the geometry rank 0 read (`geometry`); otherwise the job
+// ends with "rank r: <why>".
+Scene load_worker_scene(Cluster& cluster, const std::string& path, const CacheKey& geometry);
 
 // Limits this rank's threads to what rank 0 uses (0: all cores) for the order's duration.
 class WorkerThreads {
