@@ -1,6 +1,5 @@
 #include "distribute/form_factors.h"
 
-#include <fmt/format.h>
 #include <tbb/info.h>
 
 #include <filesystem>
