@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli_run.h"
+#include "encode/features.h"
 
 namespace radiosa {
 
@@ -116,6 +117,7 @@ TEST(Mpi, MatrixIdenticalToOneProcess) {
 // frames were rendered by more than rank 0.
 TEST(Mpi, FramesIdenticalToOneProcess) {
     if (!kMpi) GTEST_SKIP() << "built with -DRADIOSA_MPI=OFF";
+    if (!kHasVideo) GTEST_SKIP() << "built with -DRADIOSA_VIDEO=OFF: no .mp4 output to compare";
     const fs::path d = fresh_dir("radiosa_mpi_frames");
     const fs::path seq = write_sequence(d, 24);
     const std::string args = " render --sequence " + seq.string() + " --width 128 --height 96 --threads 1 -q";
@@ -147,6 +149,7 @@ TEST(Mpi, FramesIdenticalToOneProcess) {
 // a lock, a video, a temporary nor a report is left.
 TEST(Mpi, KilledRankLeavesNothingPartial) {
     if (!kMpi) GTEST_SKIP() << "built with -DRADIOSA_MPI=OFF";
+    if (!kHasVideo) GTEST_SKIP() << "built with -DRADIOSA_VIDEO=OFF: no .mp4 output to compare";
     const fs::path d = fresh_dir("radiosa_mpi_killed");
     const fs::path out = d / "out", cache = d / "cache";
     fs::create_directories(out);
