@@ -17,6 +17,7 @@
 #include "formfactor/events.h"
 #include "formfactor/point_polygon.h"
 #include "formfactor/polygon_polygon.h"
+#include "formfactor/sphere_receiver.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "util/convex_distance.h"
@@ -230,7 +231,7 @@ public:
     // patches of the inside of one sphere with nothing in the way (every point sees every other
     // at cos_i cos_j / (pi r^2) = 1 / (4 pi R^2), so F_ij = A_j / (4 pi R^2), F_ii included).
     std::optional<Estimate> closed_form(int i, int j, const std::vector<int>& blockers) const {
-        if (const auto e = nested_spheres(i, j, blockers)) return e;
+        if (const auto e = nested_spheres(m_geo, i, j, blockers, m_opt.visibility)) return e;
         if (m_opt.visibility && !blockers.empty()) return std::nullopt;
         const Patch& pi = m_geo.patch(i);
         const Patch& pj = m_geo.patch(j);
@@ -250,46 +251,6 @@ public:
             return e;
         }
         return std::nullopt;
-    }
-
-    // Nested spheres whose outer one is a single patch (the whole inward-facing sphere): all that
-    // leaves the inner (outward-facing, wholly inside) sphere reaches it, so A_k F_k,outer = A_k for
-    // every inner patch k, and it sees itself but for the inner sphere, A_o F_oo = 4 pi (R^2 - r^2).
-    std::optional<Estimate> nested_spheres(int i, int j, const std::vector<int>& blockers) const {
-        auto whole_inward = [&](int k) {
-            const Patch& p = m_geo.patch(k);
-            const Surface& s = m_geo.surface(p.surface);
-            return s.sphere() && s.sees_itself() && p.s0 == 0.0 && p.s1 == 1.0 && p.t0 == 0.0 && p.t1 == 1.0;
-        };
-        auto inside = [&](int inner_surface, const BoundingSphere& outer) {
-            const Surface& s = m_geo.surface(inner_surface);
-            const auto b = s.sphere();
-            return b && !s.sees_itself() &&
-                   glm::length(b->center - outer.center) + b->radius < outer.radius * (1.0 - 1e-12);
-        };
-        Estimate e;
-        if (i == j) {
-            if (!whole_inward(i) || !m_opt.visibility || blockers.size() != 1) return std::nullopt;
-            const BoundingSphere outer = *m_geo.surface(m_geo.patch(i).surface).sphere();
-            if (!inside(blockers[0], outer)) return std::nullopt;
-            const double r = m_geo.surface(blockers[0]).sphere()->radius;
-            e.value = 4.0 * kPi * (outer.radius * outer.radius - r * r);
-        } else {
-            const int o = whole_inward(i) ? i : (whole_inward(j) ? j : -1);
-            if (o < 0) return std::nullopt;
-            const int k = o == i ? j : i;
-            // Neither sphere can block a segment from the inside of the one to the front of the
-            // other; anything else might.
-            const int so = m_geo.patch(o).surface, sk = m_geo.patch(k).surface;
-            if (m_opt.visibility &&
-                std::any_of(blockers.begin(), blockers.end(), [&](int b) { return b != so && b != sk; }))
-                return std::nullopt;
-            if (!inside(m_geo.patch(k).surface, *m_geo.surface(m_geo.patch(o).surface).sphere()))
-                return std::nullopt;
-            e.value = m_geo.patch(k).area;
-        }
-        e.error = 16 * std::numeric_limits<double>::epsilon() * e.value;
-        return e;
     }
 
     // What may block the pair on the semi-analytic path: one sphere, or a few flat quads.
@@ -540,14 +501,42 @@ public:
         return e;
     }
 
-    void row(int i, DenseMatrix* F, std::vector<double>* E, FormFactorStats* st) const {
-        std::vector<int> blockers, reverse;
-        const int n = m_geo.patch_count();
-        const double tol = m_opt.tolerance;
-        auto note = [&](const Estimate& e) {
+    // F_ij (fwd) and F_ji (bwd) by `integrate(a, b)` (A_a F_ab). Both directions are integrated
+    // independently (so that reciprocity checks them) only for patches of comparable size.
+    // Otherwise the smaller patch is the outer domain and the larger one's entry follows by
+    // reciprocity: integrating over a large patch toward a small receiver to the same
+    // tol x A_small costs far more regions (the accuracy study's cube face toward a sphere of
+    // 512 facets: 82 s, not 0.11 s). A self pair is one direction.
+    template <class Integrate, class Set>
+    void directions(int i, int j, bool fwd, bool bwd, const Integrate& integrate, const Set& set,
+                    FormFactorStats* st) const {
+        const double ai = m_geo.patch(i).area, aj = m_geo.patch(j).area;
+        if (fwd && bwd && std::max(ai, aj) > kIndependentAreaRatio * std::min(ai, aj)) {
+            if (ai <= aj)
+                bwd = false;
+            else
+                fwd = false;
+        }
+        for (const int a : {i, j}) {
+            if (!(a == i ? fwd : bwd)) continue;
+            const int b = a == i ? j : i;
+            const Estimate e = integrate(a, b);
             st->regions += e.regions;
             st->capped += e.capped;
-        };
+            ++st->semi_analytic;
+            set(a, b, e, m_geo.patch(a).area);
+            if (a != b && !(a == i ? bwd : fwd)) {
+                set(b, a, e, m_geo.patch(b).area);
+                ++st->by_reciprocity;
+            }
+            if (a == b) break;
+        }
+    }
+
+    void row(int i, DenseMatrix* F, std::vector<double>* E, FormFactorStats* st) const {
+        std::vector<int> blockers;
+        const int n = m_geo.patch_count();
+        const double tol = m_opt.tolerance;
         for (int j = i; j < n; ++j) {
             ++st->pairs;
             const bool self = i == j;
@@ -568,46 +557,34 @@ public:
                 continue;
             }
             Shadow bij, bji;
-            bool fwd = !self && semi_analytic(i, j, blockers, &bij);
-            bool bwd = !self && semi_analytic(j, i, blockers, &bji);
-            // Both directions are integrated independently (so that reciprocity checks them)
-            // only for patches of comparable size. Otherwise the smaller patch is the outer
-            // domain and the larger one's entry follows by reciprocity: integrating over a
-            // large patch toward a small receiver to the same tol x A_small costs far more
-            // regions (the accuracy study's cube face toward a sphere of 512 facets: 82 s, not 0.11 s).
-            if (fwd && bwd && std::max(ai, aj) > kIndependentAreaRatio * std::min(ai, aj)) {
-                if (ai <= aj)
-                    bwd = false;
-                else
-                    fwd = false;
-            }
+            const bool fwd = !self && semi_analytic(i, j, blockers, &bij);
+            const bool bwd = !self && semi_analytic(j, i, blockers, &bji);
             if (fwd || bwd) {
-                if (fwd) {
-                    const Estimate e = area_times_f_semi(i, j, bij, tol);
-                    note(e);
-                    ++st->semi_analytic;
-                    set(i, j, e, ai);
-                    if (!bwd) {
-                        set(j, i, e, aj);
-                        ++st->by_reciprocity;
-                    }
-                }
-                if (bwd) {
-                    const Estimate e = area_times_f_semi(j, i, bji, tol);
-                    note(e);
-                    ++st->semi_analytic;
-                    set(j, i, e, aj);
-                    if (!fwd) {
-                        set(i, j, e, ai);
-                        ++st->by_reciprocity;
-                    }
-                }
+                directions(
+                    i, j, fwd, bwd,
+                    [&](int a, int b) { return area_times_f_semi(a, b, a == i ? bij : bji, tol); }, set, st);
+                continue;
+            }
+            // A sphere receiver with nothing in the way that the cuts of its contour do not
+            // account for (nested spheres).
+            const auto sf = sphere_receiver(m_geo, i, j, blockers, m_opt.visibility);
+            const auto sb = self ? std::optional<SphereReceiver>{}
+                                 : sphere_receiver(m_geo, j, i, blockers, m_opt.visibility);
+            if (sf || sb) {
+                directions(
+                    i, j, sf.has_value(), sb.has_value(),
+                    [&](int a, int b) {
+                        return area_times_f_sphere(m_geo, a, b, a == i ? *sf : *sb, tol, m_outer,
+                                                   kMaxOuterRegions);
+                    },
+                    set, st);
                 continue;
             }
             // Neither direction has a planar receiver free of general occluders: one symmetric
             // numeric integral gives both entries.
             const Estimate e = area_times_f_numeric(i, j, blockers, tol, st);
-            note(e);
+            st->regions += e.regions;
+            st->capped += e.capped;
             ++st->numeric;
             set(i, j, e, ai);
             if (!self) set(j, i, e, aj);

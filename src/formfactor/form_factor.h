@@ -72,7 +72,7 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 5;
+inline constexpr int kFormFactorAlgorithmVersion = 6;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included
@@ -84,7 +84,7 @@ struct FormFactorStats {
     // Error-controlled mode: how each computed direction of a pair was integrated.
     long long closed_form = 0;     // pairs exact to round-off: unoccluded polygons (contour integral),
                                    // two patches of the inside of one sphere (A_j / 4 pi R^2)
-    long long semi_analytic = 0;   // closed-form inner integral (planar receiver), adaptive outer
+    long long semi_analytic = 0;   // closed-form inner integral (planar or sphere receiver), adaptive outer
     long long numeric = 0;         // adaptive quadrature of both integrals (curved receivers, occluders)
     long long by_reciprocity = 0;  // entries set from the other direction: A_i F_ij = A_j F_ji
     long long regions = 0;         // outer integration regions (refinement effort)

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "formfactor/convex_clip.h"
+#include "util/gauss_kronrod.h"
 
 namespace radiosa {
 
@@ -21,23 +22,6 @@ Vec3 newell(const Vec3* v, int n) {
     for (int k = 0; k < n; ++k) m += glm::cross(v[k], v[(k + 1) % n]);
     return m;
 }
-
-// The Kronrod (7, 15) pair on [-1, 1] (Piessens et al., QUADPACK qk15): abscissae of the
-// 15-point rule from the outside in (odd positions are the 7-point Gauss nodes), its weights,
-// and the Gauss weights of positions 1, 3, 5, 7.
-constexpr std::array<double, 8> kXk = {
-    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-    0.207784955007898467600689403773245, 0.0};
-constexpr std::array<double, 8> kWk = {
-    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-constexpr std::array<double, 4> kWg = {
-    0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-    0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
 
 // One edge of the second polygon: start, unit direction, length.
 struct Edge {
@@ -76,13 +60,13 @@ PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const
     double mag = 0.0;
     auto rule = [&](double a, double b) {
         const double c = 0.5 * (a + b), h = 0.5 * (b - a);
-        double k = kWk[7] * inner(a0 + c * d, e, log_rho, &mag),
-               g = kWg[3] * inner(a0 + c * d, e, log_rho, &mag);
+        double k = kKronrodW[7] * inner(a0 + c * d, e, log_rho, &mag),
+               g = kGauss7W[3] * inner(a0 + c * d, e, log_rho, &mag);
         for (int i = 0; i < 7; ++i) {
-            const double f = inner(a0 + (c - h * kXk[i]) * d, e, log_rho, &mag) +
-                             inner(a0 + (c + h * kXk[i]) * d, e, log_rho, &mag);
-            k += kWk[i] * f;
-            if (i % 2 == 1) g += kWg[i / 2] * f;
+            const double f = inner(a0 + (c - h * kKronrodX[i]) * d, e, log_rho, &mag) +
+                             inner(a0 + (c + h * kKronrodX[i]) * d, e, log_rho, &mag);
+            k += kKronrodW[i] * f;
+            if (i % 2 == 1) g += kGauss7W[i / 2] * f;
         }
         out.evaluations += 16;
         return Interval{a, b, k * h, std::abs((k - g) * h)};
