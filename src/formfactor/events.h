@@ -66,7 +66,8 @@ public:
     // Does an event cross the region? Planes, and the horizons of a sphere (x's tangent plane
     // passes v where (x - c) . (v - c) = R^2: a plane too), exactly, from the range of a . x
     // over the region (Surface::linear_range: a feature between sample points cannot hide);
-    // cones and the horizons of other curved surfaces from the signs at a 3 x 3 grid of points.
+    // cones exactly on polygon patches (cone_meets_polygon); cones on curved patches and the
+    // horizons of other curved surfaces from the signs at a 3 x 3 grid of points.
     bool crosses(const Surface& si, const Rect& r) const {
         if (empty()) return false;
         auto straddles = [&](const Vec3& a, double offset) {
@@ -81,7 +82,16 @@ public:
                 const Vec3 a = v - ball->center;
                 if (straddles(a, glm::dot(a, ball->center) + ball->radius * ball->radius)) return true;
             }
-        const std::size_t n = (ball ? 0 : m_horizons.size()) + m_cones.size();
+        // On a polygon patch a region is a convex polygon, and cones are tested exactly.
+        const bool flat = si.plane() && si.patches_are_polygons();
+        if (flat) {
+            const std::array<Vec3, 4> q = {si.point(r.s0, r.t0), si.point(r.s1, r.t0), si.point(r.s1, r.t1),
+                                           si.point(r.s0, r.t1)};
+            for (const Cone& c : m_cones)
+                if (cone_meets_polygon(c, q)) return true;
+        }
+        const std::size_t cones = flat ? 0 : m_cones.size();
+        const std::size_t n = (ball ? 0 : m_horizons.size()) + cones;
         if (n == 0) return false;
         std::vector<signed char> sign(n, 0), mixed(n, 0);
         for (int a = 0; a < 3; ++a)
@@ -101,7 +111,8 @@ public:
                     const Vec3 nx = si.normal(s, t);
                     for (const Vec3& v : m_horizons) note(glm::dot(nx, v - x));
                 }
-                for (const Cone& c : m_cones) {
+                for (std::size_t ci = 0; ci < cones; ++ci) {
+                    const Cone& c = m_cones[ci];
                     const Vec3 d = x - c.apex;
                     const double along = glm::dot(d, c.axis);
                     note(along > 0.0 ? along * along - c.cos2 * glm::dot(d, d) : -1.0);
@@ -153,8 +164,46 @@ public:
 private:
     struct Cone {
         Vec3 apex, axis;
-        double cos2;
+        double cos2;  // cos^2 of the half-angle
     };
+
+    // Does the cone's surface meet the planar convex polygon q (corners in order)? The angle
+    // between x - apex and the axis is largest over the polygon at a corner (its sublevel sets
+    // are convex cones), and smallest either 0, where the axis passes through the polygon, or on
+    // an edge p0 + l (p1 - p0), where its cosine peaks at l = (a0 q1 - a1 q0) / (a1 q1 - a0 q2)
+    // (a = axis . (u, w), q = (u.u, u.w, w.w), u = p0 - apex, w = p1 - p0).
+    static bool cone_meets_polygon(const Cone& c, const std::array<Vec3, 4>& q) {
+        const double cos_a = std::sqrt(std::max(0.0, c.cos2));
+        auto cosine = [&](const Vec3& p) {
+            const double l = glm::length(p);
+            return l > 0.0 ? glm::dot(c.axis, p) / l : 1.0;
+        };
+        double lo = 1.0, hi = -1.0;
+        for (int k = 0; k < 4; ++k) {
+            const Vec3 u = q[k] - c.apex, w = q[(k + 1) % 4] - q[k];
+            const double v = cosine(u);
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
+            const double a0 = glm::dot(c.axis, u), a1 = glm::dot(c.axis, w), q0 = glm::dot(u, u),
+                         q1 = glm::dot(u, w), q2 = glm::dot(w, w);
+            const double den = a1 * q1 - a0 * q2;
+            if (den != 0.0) {
+                const double l = (a0 * q1 - a1 * q0) / den;
+                if (l > 0.0 && l < 1.0) hi = std::max(hi, cosine(u + l * w));
+            }
+        }
+        const Vec3 nrm = glm::cross(q[1] - q[0], q[2] - q[0]) + glm::cross(q[2] - q[0], q[3] - q[0]);
+        const double dn = glm::dot(nrm, c.axis);
+        if (dn != 0.0) {
+            const double tau = glm::dot(nrm, q[0] - c.apex) / dn;
+            const Vec3 h = c.apex + tau * c.axis;
+            bool inside = tau > 0.0;
+            for (int k = 0; k < 4 && inside; ++k)
+                inside = glm::dot(nrm, glm::cross(q[(k + 1) % 4] - q[k], h - q[k])) >= 0.0;
+            if (inside) hi = 1.0;
+        }
+        return lo < cos_a && cos_a < hi;
+    }
     std::vector<Vec3> m_horizons;
     std::vector<std::pair<Vec3, Vec3>> m_planes;  // normal, point
     std::vector<Cone> m_cones;

@@ -294,10 +294,10 @@ Estimate area_times_f_sphere(const SceneGeometry& g, int i, int j, const SphereR
     // The outer integral gets nine tenths of the target, the inner integrals' sum the rest.
     Estimate e = adaptive_rect(gx, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.9 * region_tol, max_regions, outer,
                                quarters, [&](const Rect& r, double fine) {
-                                   // A region whose nodes all see nothing of j, although its
-                                   // directions come close enough, may hold a sliver that does
-                                   // (x's horizon just reaching j): the 3 x 3 split looks there.
-                                   const bool sliver = fine == 0.0 && may_see(r);
+                                   // A region whose nodes see (almost) nothing of j, although
+                                   // its directions come close enough, may hold a sliver that
+                                   // does (x's horizon just reaching j): the 3 x 3 split looks.
+                                   const bool sliver = std::abs(fine) <= region_tol && may_see(r);
                                    return (std::abs(fine) * kKinkFraction > region_tol || sliver) &&
                                           events.crosses(si, r);
                                });
