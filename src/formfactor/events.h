@@ -121,6 +121,16 @@ public:
         return std::any_of(mixed.begin(), mixed.end(), [](signed char m) { return m != 0; });
     }
 
+    // Which way to halve a region an event crosses, to close in on it: the direction in which
+    // fewer halves are still crossed (an event along a long thin band is approached across the
+    // band, not along it); `fallback` when both are alike.
+    int split_toward(const Surface& si, const Rect& r, int fallback) const {
+        int crossed[2] = {0, 0};
+        for (int dir = 0; dir < 2; ++dir)
+            for (const Rect& h : r.halves(dir)) crossed[dir] += crosses(si, h);
+        return crossed[0] < crossed[1] ? 0 : (crossed[1] < crossed[0] ? 1 : fallback);
+    }
+
     // Where to cut the region so that a plane event runs along the cut instead of through a
     // region (planar patches only, where a plane meets the patch in a straight line): the first
     // plane that enters through one pair of opposite edges and leaves through the other within

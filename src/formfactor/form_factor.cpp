@@ -346,7 +346,7 @@ public:
                                               si.point(r.s0, 0.5 * (r.t0 + r.t1))),
                              lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
                                               si.point(0.5 * (r.s0 + r.s1), r.t0));
-                return Cut{ls >= lt ? 0 : 1};
+                return Cut{events.split_toward(si, r, ls >= lt ? 0 : 1)};
             }
             const Vec3 c00 = si.point(r.s0, r.t0), c10 = si.point(r.s1, r.t0), c01 = si.point(r.s0, r.t1),
                        c11 = si.point(r.s1, r.t1);
@@ -428,7 +428,7 @@ public:
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
             // No event crossing the region: whether x sees the shadow cannot change inside it.
             if (fine != 0.0 || std::max(ws, wt) < 1e-6 || !reaches(r) || !events.crosses(si, r)) return Cut{};
-            return Cut{ws * s_len >= wt * t_len ? 0 : 1};
+            return Cut{events.split_toward(si, r, ws * s_len >= wt * t_len ? 0 : 1)};
         };
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area) - open.error;
         const double fraction = shadow.sphere ? kSphereKinkFraction : kFlatKinkFraction;
