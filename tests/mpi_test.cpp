@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -72,6 +73,16 @@ fs::path write_sequence(const fs::path& dir, int frames) {
 
 // Kills rank `rank` of the job whose command line contains `marker`, once `ready` exists.
 // Returns false if it never appeared (the job ended first or never got there).
+// Leaves out lock files. Rank 0 removes its lock on the SIGTERM mpirun sends when a rank dies,
+// but on a loaded machine mpirun's SIGKILL can come first (CI saw it); the file left is inert
+// (the lock is an flock, released when its holder dies, and the next run takes it).
+std::vector<fs::path> but_locks(std::vector<fs::path> files) {
+    files.erase(std::remove_if(files.begin(), files.end(),
+                               [](const fs::path& p) { return p.extension() == ".lock"; }),
+                files.end());
+    return files;
+}
+
 bool kill_rank_when(const std::string& marker, int rank, const std::function<bool()>& ready) {
     for (int k = 0; k < 600 && !ready(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     if (!ready()) return false;
@@ -170,7 +181,7 @@ TEST(Mpi, KilledRankLeavesNothingPartial) {
         EXPECT_NE(shell(job), 0);
         killer.join();
         EXPECT_TRUE(files_under(out).empty());
-        EXPECT_TRUE(files_under(cache).empty());
+        EXPECT_TRUE(but_locks(files_under(cache)).empty());
     }
     {  // while writing frames (the matrix cached first, by one process)
         const fs::path seq = write_sequence(d, 240);
@@ -184,7 +195,7 @@ TEST(Mpi, KilledRankLeavesNothingPartial) {
         EXPECT_NE(shell(job), 0);
         killer.join();
         EXPECT_TRUE(files_under(out).empty());
-        EXPECT_EQ(files_under(cache).size(), 1u);  // the complete matrix from before, nothing else
+        EXPECT_EQ(but_locks(files_under(cache)).size(), 1u);  // the complete matrix from before, nothing else
     }
     fs::remove_all(d);
 }
