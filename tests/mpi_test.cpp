@@ -71,8 +71,6 @@ fs::path write_sequence(const fs::path& dir, int frames) {
     return test::write_short_sequence(dir, 24, frames / 24.0);
 }
 
-// Kills rank `rank` of the job whose command line contains `marker`, once `ready` exists.
-// Returns false if it never appeared (the job ended first or never got there).
 // Leaves out lock files. Rank 0 removes its lock on the SIGTERM mpirun sends when a rank dies,
 // but on a loaded machine mpirun's SIGKILL can come first (CI saw it); the file left is inert
 // (the lock is an flock, released when its holder dies, and the next run takes it).
@@ -83,6 +81,8 @@ std::vector<fs::path> but_locks(std::vector<fs::path> files) {
     return files;
 }
 
+// Kills rank `rank` of the job whose command line contains `marker`, once `ready` exists.
+// Returns false if it never appeared (the job ended first or never got there).
 bool kill_rank_when(const std::string& marker, int rank, const std::function<bool()>& ready) {
     for (int k = 0; k < 600 && !ready(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     if (!ready()) return false;
