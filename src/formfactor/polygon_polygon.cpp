@@ -48,10 +48,6 @@ double inner(const Vec3& p, const Edge& e, double log_rho, double* mag) {
     return hi - lo;
 }
 
-struct Interval {
-    double a, b, value, error;
-};
-
 // The integral over edge a0 -> a0 + len * d of inner(., e) by adaptive Gauss-Kronrod, bisecting
 // the interval with the largest |K15 - G7| until the sum is below the rounding level of the
 // terms (or a cap of intervals is hit, which the returned error then shows).
@@ -69,33 +65,16 @@ PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const
             if (i % 2 == 1) g += kGauss7W[i / 2] * f;
         }
         out.evaluations += 16;
-        return Interval{a, b, k * h, std::abs((k - g) * h)};
+        return Piece1D{a, b, k * h, std::abs((k - g) * h)};
     };
     constexpr int kMaxIntervals = 400;
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    auto lower = [](const Interval& x, const Interval& y) { return x.error < y.error; };
-    std::vector<Interval> heap{rule(0.0, len)};
-    double err = heap[0].error;
     // Rounding: every evaluation's cancelling terms, scaled to the interval it came from.
     auto rounding = [&] { return 16 * eps * mag * len / std::max(1, out.evaluations); };
-    while (err > rounding() && static_cast<int>(heap.size()) < kMaxIntervals) {
-        std::pop_heap(heap.begin(), heap.end(), lower);
-        const Interval top = heap.back();
-        heap.pop_back();
-        err -= top.error;
-        const double mid = 0.5 * (top.a + top.b);
-        for (const Interval& half : {rule(top.a, mid), rule(mid, top.b)}) {
-            heap.push_back(half);
-            err += half.error;
-            std::push_heap(heap.begin(), heap.end(), lower);
-        }
-    }
-    err = 0.0;
-    for (const Interval& iv : heap) {
-        out.value += iv.value;
-        err += iv.error;
-    }
-    out.error = err + rounding();
+    const Integral1D sum = bisect_largest_error(
+        rule, 0.0, len, [&](double err) { return err > rounding(); }, kMaxIntervals);
+    out.value = sum.value;
+    out.error = sum.error + rounding();
     return out;
 }
 

@@ -31,15 +31,45 @@ struct Integral1D {
     int evaluations = 0;
 };
 
+// One interval of a globally adaptive 1-D rule: its ends, its value and its error estimate.
+struct Piece1D {
+    double a, b, value, error;
+};
+
+// Globally adaptive bisection: from rule(a, b) (a Piece1D), the piece with the largest error is
+// halved while more(sum of the errors) holds and there are fewer than `max_pieces`. Returns the
+// sums of the final pieces' values and errors (`evaluations` is left to the caller's rule).
+template <class Rule, class More>
+Integral1D bisect_largest_error(const Rule& rule, double a, double b, const More& more, int max_pieces) {
+    auto lower = [](const Piece1D& x, const Piece1D& y) { return x.error < y.error; };
+    std::vector<Piece1D> heap{rule(a, b)};
+    double err = heap[0].error;
+    while (more(err) && static_cast<int>(heap.size()) < max_pieces) {
+        std::pop_heap(heap.begin(), heap.end(), lower);
+        const Piece1D top = heap.back();
+        heap.pop_back();
+        err -= top.error;
+        const double mid = 0.5 * (top.a + top.b);
+        for (const Piece1D& half : {rule(top.a, mid), rule(mid, top.b)}) {
+            heap.push_back(half);
+            err += half.error;
+            std::push_heap(heap.begin(), heap.end(), lower);
+        }
+    }
+    Integral1D sum;
+    for (const Piece1D& p : heap) {
+        sum.value += p.value;
+        sum.error += p.error;
+    }
+    return sum;
+}
+
 // The integral of f over [a, b]: the interval with the largest |K15 - G7| is bisected until
 // the errors sum to at most `abs_tol` (or to the rounding level of the values summed), or
 // `max_intervals` is reached (the returned error then shows it).
 template <class F>
 Integral1D adaptive_kronrod(const F& f, double a, double b, double abs_tol, int max_intervals = 200) {
-    struct Piece {
-        double a, b, value, error;
-    };
-    Integral1D out;
+    int evaluations = 0;
     double mag = 0.0;
     auto rule = [&](double lo, double hi) {
         const double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
@@ -51,32 +81,15 @@ Integral1D adaptive_kronrod(const F& f, double a, double b, double abs_tol, int 
             m += kKronrodW[i] * (std::abs(f1) + std::abs(f2));
             if (i % 2 == 1) g += kGauss7W[i / 2] * (f1 + f2);
         }
-        out.evaluations += 15;
+        evaluations += 15;
         mag += std::abs(m * h);
-        return Piece{lo, hi, k * h, std::abs((k - g) * h)};
+        return Piece1D{lo, hi, k * h, std::abs((k - g) * h)};
     };
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    auto lower = [](const Piece& x, const Piece& y) { return x.error < y.error; };
-    std::vector<Piece> heap{rule(a, b)};
-    double err = heap[0].error;
-    while (err > std::max(abs_tol, 64 * eps * mag) && static_cast<int>(heap.size()) < max_intervals) {
-        std::pop_heap(heap.begin(), heap.end(), lower);
-        const Piece top = heap.back();
-        heap.pop_back();
-        err -= top.error;
-        const double mid = 0.5 * (top.a + top.b);
-        for (const Piece& half : {rule(top.a, mid), rule(mid, top.b)}) {
-            heap.push_back(half);
-            err += half.error;
-            std::push_heap(heap.begin(), heap.end(), lower);
-        }
-    }
-    err = 0.0;
-    for (const Piece& p : heap) {
-        out.value += p.value;
-        err += p.error;
-    }
-    out.error = err + 64 * eps * mag;
+    Integral1D out = bisect_largest_error(
+        rule, a, b, [&](double err) { return err > std::max(abs_tol, 64 * eps * mag); }, max_intervals);
+    out.error += 64 * eps * mag;
+    out.evaluations = evaluations;
     return out;
 }
 
