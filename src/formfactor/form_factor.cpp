@@ -198,14 +198,6 @@ private:
 
 // ---- error-controlled form factors ----
 
-// A region's 3 x 3 check is skipped when even a kink error of this fraction of its value would
-// be below the whole integral's tolerance. A sphere's outline meeting an edge bends the integrand
-// smoothly (the largest such error measured on the seed scene was 1.6e-5 of the region's value,
-// a quarter patch of the floor against a wall patch at tolerance 1e-9); a flat occluder's edge
-// meeting a corner breaks its slope, so those regions are always checked.
-constexpr double kSphereKinkFraction = 1e-4;
-constexpr double kFlatKinkFraction = 1.0;
-
 class AdaptiveIntegrator {
 public:
     AdaptiveIntegrator(const SceneGeometry& g, const FormFactorOptions& o, const Integrator& base)

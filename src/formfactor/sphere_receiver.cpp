@@ -11,12 +11,6 @@ namespace radiosa {
 
 namespace {
 
-// A region's 3 x 3 check (cubature.h) is made where an event crosses it, unless even a kink error
-// of this fraction of its value would be below the integral's tolerance: the inner integral
-// bends where an arc of the cut-out region passes a corner of the patch, and stays once
-// differentiable there.
-constexpr double kKinkFraction = 1e-4;
-
 // Range of |x - c| over the points x of patch i.
 std::pair<double, double> distance_range(const SceneGeometry& g, int i, const Vec3& c) {
     const Patch& p = g.patch(i);
@@ -298,7 +292,7 @@ Estimate area_times_f_sphere(const SceneGeometry& g, int i, int j, const SphereR
                                    // its directions come close enough, may hold a sliver that
                                    // does (x's horizon just reaching j): the 3 x 3 split looks.
                                    const bool sliver = std::abs(fine) <= region_tol && may_see(r);
-                                   return (std::abs(fine) * kKinkFraction > region_tol || sliver) &&
+                                   return (std::abs(fine) * kSphereKinkFraction > region_tol || sliver) &&
                                           events.crosses(si, r);
                                });
     e.error += inner_err * pi.area;

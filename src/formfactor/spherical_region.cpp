@@ -228,10 +228,15 @@ ContourValue point_to_spherical_region(const Vec3& x, const Vec3& n, const Spher
 }
 
 ContourValue spherical_region_area(const SphericalRegion& region, const Vec3& away, double tol) {
-    SphericalRegion inward = region;
-    inward.front = -1.0;
+    // Seen from `away` on the sphere, the region's front must face inward: a copy only if it
+    // does not already (the form factors' inner loop passes inward regions).
+    if (region.front > 0.0) {
+        SphericalRegion inward = region;
+        inward.front = -1.0;
+        return spherical_region_area(inward, away, tol);
+    }
     const Vec3 n = glm::normalize(region.center - away);
-    ContourValue f = point_to_spherical_region(away, n, inward, tol);
+    ContourValue f = point_to_spherical_region(away, n, region, tol);
     const double scale = 4 * kPi * region.radius * region.radius;
     f.value *= scale;
     f.error *= scale;
