@@ -40,7 +40,8 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
              "0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n    emision: [1, 1, 1]\n",
              171),
          "@:7:5: unknown key 'emision' in surface #1 (allowed: name, type, corners | origin + edge_s + "
-         "edge_t, patches, reflectance, emission, patch_emission)"},
+         "edge_t, patches, reflectance, emission, patch_emission, transform, two_sided, "
+         "back_reflectance, back_emission)"},
         {"gauss_points out of range", std::string("form_factors:\n  gauss_points: 65\n") + kQuad,
          "@:2:17: gauss_points must be between 1 and 64, got 65"},
         {"gauss_points zero", std::string("form_factors:\n  gauss_points: 0\n") + kQuad,
@@ -73,8 +74,8 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
          "@:8:17: patch must be a list of 2 integers [i, j] (0-based)"},
         {"unknown surface type",
          std::string(
-             "surfaces:\n  - name: a\n    type: cone\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-         "@:3:11: unknown surface type 'cone' (known: quad, sphere)"},
+             "surfaces:\n  - name: a\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+         "@:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone)"},
         {"wrong type",
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: many\n    reflectance: [0.5, 0.5, 0.5]\n",

@@ -36,7 +36,7 @@ TEST(SurfaceRegistry, NamesAreUniqueAndFound) {
         EXPECT_EQ(find_surface_type(t->name), t);
     }
     EXPECT_EQ(find_surface_type("teapot"), nullptr);
-    EXPECT_EQ(surface_type_names(), "quad, sphere");
+    EXPECT_EQ(surface_type_names(), "quad, sphere, disk, cylinder, cone");
 }
 
 TEST(SurfaceRegistry, EveryParameterOfEveryTypeReachesTheCacheKey) {
@@ -79,7 +79,9 @@ TEST(SurfaceRegistry, UnknownTypeNamesTheKnownOnes) {
                     "x.yaml");
         FAIL() << "no error";
     } catch (const Error& e) {
-        EXPECT_STREQ(e.what(), "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere)");
+        EXPECT_STREQ(
+            e.what(),
+            "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere, disk, cylinder, cone)");
     }
 }
 

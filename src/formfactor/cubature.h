@@ -101,9 +101,10 @@ double tensor_gauss(const G& g, const Rect& r, const GaussRule& rule) {
     return sum * hs * ht;
 }
 
+// `leaves`, if given, receives the final regions (to integrate a companion quantity over them).
 template <class G, class Geo, class Sus = NoSuspects>
 Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions, const GaussRule& rule,
-                       const Geo& geometric, const Sus& suspect = {}) {
+                       const Geo& geometric, const Sus& suspect = {}, std::vector<Rect>* leaves = nullptr) {
     auto gauss = [&](const Rect& r) { return tensor_gauss(g, r, rule); };
     struct Region {
         Rect r;
@@ -174,6 +175,7 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     for (const Region& r : heap) {
         e.value += r.fine;
         e.error += r.err;
+        if (leaves) leaves->push_back(r.r);
     }
     e.regions = static_cast<int>(heap.size());
     e.capped = e.error > tol || heap.front().forced;

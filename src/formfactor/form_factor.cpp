@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 
+#include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
 #include "formfactor/events.h"
 #include "formfactor/point_polygon.h"
@@ -28,8 +29,9 @@ namespace radiosa {
 
 namespace {
 
-// Signed distance range of a patch from a plane.
-std::pair<double, double> extent(const Patch& p, const Plane& plane) {
+// Signed distance range of a patch from a plane: from its corners for a polygon, exact from
+// Surface::linear_range otherwise.
+std::pair<double, double> extent(const SceneGeometry& g, const Patch& p, const Plane& plane) {
     if (p.polygon) {
         double lo = plane.signed_distance(p.corners[0]), hi = lo;
         for (int k = 1; k < 4; ++k) {
@@ -39,8 +41,8 @@ std::pair<double, double> extent(const Patch& p, const Plane& plane) {
         }
         return {lo, hi};
     }
-    const double d = plane.signed_distance(p.bound.center);
-    return {d - p.bound.radius, d + p.bound.radius};
+    const auto [lo, hi] = g.surface(p.surface).linear_range(plane.normal, p.s0, p.s1, p.t0, p.t1);
+    return {lo - plane.offset, hi - plane.offset};
 }
 
 class Integrator {
@@ -69,8 +71,10 @@ public:
         const Patch& pj = m_geo.patch(j);
         if (!m_opt.culling) return false;
         if (pi.surface == pj.surface && !m_geo.surface(pi.surface).sees_itself()) return true;
-        if (auto pl = m_geo.surface(pi.surface).plane(); pl && extent(pj, *pl).second <= m_eps) return true;
-        if (auto pl = m_geo.surface(pj.surface).plane(); pl && extent(pi, *pl).second <= m_eps) return true;
+        if (auto pl = m_geo.surface(pi.surface).plane(); pl && extent(m_geo, pj, *pl).second <= m_eps)
+            return true;
+        if (auto pl = m_geo.surface(pj.surface).plane(); pl && extent(m_geo, pi, *pl).second <= m_eps)
+            return true;
         return false;
     }
 
@@ -117,7 +121,7 @@ public:
             if (can_block)
                 if (auto pl = s.plane()) {
                     // A segment between points on one closed side of a plane cannot cross it.
-                    const auto ei = extent(pi, *pl), ej = extent(pj, *pl);
+                    const auto ei = extent(m_geo, pi, *pl), ej = extent(m_geo, pj, *pl);
                     if ((ei.first >= -m_eps && ej.first >= -m_eps) ||
                         (ei.second <= m_eps && ej.second <= m_eps))
                         can_block = false;
@@ -573,6 +577,21 @@ public:
                     [&](int a, int b) {
                         return area_times_f_sphere(m_geo, a, b, a == i ? *sf : *sb, tol, m_outer,
                                                    kMaxOuterRegions);
+                    },
+                    set, st);
+                continue;
+            }
+            // A receiver bounded by segments and arcs (disks, cylinders) that all of the other
+            // patch sees whole.
+            const auto cf = contour_receiver(m_geo, i, j, blockers, m_opt.visibility);
+            const auto cb = self ? std::optional<ContourReceiver>{}
+                                 : contour_receiver(m_geo, j, i, blockers, m_opt.visibility);
+            if (cf || cb) {
+                directions(
+                    i, j, cf.has_value(), cb.has_value(),
+                    [&](int a, int b) {
+                        return area_times_f_contour(m_geo, a, b, a == i ? *cf : *cb, tol, m_outer,
+                                                    kMaxOuterRegions);
                     },
                     set, st);
                 continue;

@@ -56,6 +56,7 @@ double add_tangencies(const SceneGeometry& g, int i, int j, const SphereReceiver
     SphericalRegion edges;
     edges.center = c;
     edges.radius = R;
+    edges.axes = how.axes;
     add_patch_cuts(&edges, pj.s0, pj.s1, pj.t0, pj.t1);
     for (const HalfSpace& h : edges.cuts) {
         const Vec3 u = glm::normalize(h.normal);
@@ -118,6 +119,7 @@ std::vector<Piece> receiver_pieces(const Surface& sj, const Patch& pj, const Sph
         p.region.center = how.center;
         p.region.radius = how.radius;
         p.region.front = how.inward ? -1.0 : 1.0;
+        p.region.axes = how.axes;
         add_patch_cuts(&p.region, s0, s1, pj.t0, pj.t1);
         p.away = how.center -
                  how.radius * glm::normalize(sj.point(0.5 * (s0 + s1), 0.5 * (pj.t0 + pj.t1)) - how.center);
@@ -196,6 +198,7 @@ std::optional<SphereReceiver> sphere_receiver(const SceneGeometry& g, int i, int
     SphereReceiver how;
     how.center = bj->center;
     how.radius = bj->radius;
+    how.axes = sj.sphere_axes();
     how.inward = sj.sees_itself();
     if (pi.surface == pj.surface) {
         if (!how.inward || !visibility || blockers.size() != 1) return std::nullopt;

@@ -20,6 +20,7 @@ std::optional<Estimate> nested_spheres(const SceneGeometry& g, int i, int j, con
 struct SphereReceiver {
     Vec3 center{0.0};
     double radius = 0.0;
+    Mat3 axes{1.0};       // the receiver's Surface::sphere_axes
     bool inward = false;  // the receiver is the inside of its sphere
     // Both patches on the inside of one sphere, a ball concentric with it in between: the kernel
     // is the constant 1 / (4 pi R^2) and x sees all of the sphere but a cap around its antipode.

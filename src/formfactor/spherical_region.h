@@ -12,6 +12,7 @@
 // only in front of x: the cuts must say so. Each arc is integrated by adaptive Gauss-Kronrod.
 #include <vector>
 
+#include "formfactor/circle_arc.h"
 #include "util/math.h"
 
 namespace radiosa {
@@ -25,19 +26,14 @@ struct SphericalRegion {
     Vec3 center{0.0};
     double radius = 1.0;
     double front = 1.0;  // +1: the front normal points out of the sphere, -1: into it
+    Mat3 axes{1.0};      // columns: the sphere's local x, y, z (add_patch_cuts)
     std::vector<HalfSpace> cuts;
 };
 
 // Adds the cuts of the parameter rectangle [s0, s1] x [t0, t1] of a sphere (azimuth 2 pi s,
-// polar angle pi (1 - t) from +z, surfaces/sphere.h). The azimuth span 2 pi (s1 - s0) must
-// be at most pi / 2 (split wider patches).
+// polar angle pi (1 - t) from +z, surfaces/sphere.h), about the region's axes. The azimuth span 2 pi (s1 -
+// s0) must be at most pi / 2 (split wider patches).
 void add_patch_cuts(SphericalRegion* region, double s0, double s1, double t0, double t1);
-
-struct ContourValue {
-    double value = 0.0;
-    double error = 0.0;  // quadrature and rounding
-    bool valid = true;   // false when the cuts leave no boundary (the whole sphere)
-};
 
 // F(dx -> region) for the point x with unit normal n (see above for when it holds), to the
 // absolute tolerance `tol` (or the rounding level, whichever is larger).

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "scene/scene.h"
+#include "surfaces/placed.h"
 #include "surfaces/registry.h"
 #include "util/yaml_reader.h"
 
@@ -80,8 +81,9 @@ void read_patch_emission(YamlMap& m, SurfaceDesc& s) {
     }
 }
 
-// The keys every surface has; the type's own keys are read by its reader (surfaces/*.cpp).
-SurfaceDesc read_surface(const YAML::Node& node, const std::string& file, int index) {
+// The keys every surface has; the type's own keys are read by its reader (surfaces/*.cpp). A
+// two-sided surface becomes two: the surface as given and its back side, "<name>.back".
+std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string& file, int index) {
     YamlMap m(node, file, "surface #" + std::to_string(index + 1));
     SurfaceDesc s;
     s.loc = m.loc();
@@ -97,8 +99,29 @@ SurfaceDesc read_surface(const YAML::Node& node, const std::string& file, int in
     if (auto e = m.optional("emission")) s.emission = read_emission(*e, file);
     read_patch_emission(m, s);
     s.shape = s.type->read(m, s.name);
-    m.reject_unknown_keys("name, type, " + s.type->keys + ", patches, reflectance, emission, patch_emission");
-    return s;
+    const bool two_sided = m.boolean_or("two_sided", false);
+    Similarity xf;
+    const auto transform = m.optional("transform");
+    if (transform) xf = read_transform(*transform, file);
+    SurfaceDesc back = s;
+    back.name = s.name + ".back";
+    back.emission = Rgb(0.0);
+    back.patch_emission.clear();
+    for (const char* key : {"back_reflectance", "back_emission"})
+        if (m.has(key) && !two_sided)
+            throw Error(m.key_loc(key),
+                        std::string(key) + " needs two_sided: true on surface '" + s.name + "'");
+    if (auto r = m.optional("back_reflectance")) back.reflectance = read_reflectance(*r, file);
+    if (auto e = m.optional("back_emission")) back.emission = read_emission(*e, file);
+    m.reject_unknown_keys("name, type, " + s.type->keys +
+                          ", patches, reflectance, emission, patch_emission, transform, two_sided, "
+                          "back_reflectance, back_emission");
+    std::vector<SurfaceDesc> out;
+    if (two_sided) back.shape = std::make_shared<PlacedSurface>(s.shape, xf, true);
+    if (transform) s.shape = std::make_shared<PlacedSurface>(s.shape, xf, false);
+    out.push_back(std::move(s));
+    if (two_sided) out.push_back(std::move(back));
+    return out;
 }
 
 FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::string& file) {
@@ -163,18 +186,21 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
     if (!list.IsSequence() || list.size() == 0)
         throw Error(loc_of(list, filename), "surfaces must be a non-empty list of surfaces");
     long long total = 0;
-    for (size_t i = 0; i < list.size(); ++i) {
-        SurfaceDesc s = read_surface(list[i], filename, static_cast<int>(i));
-        if (scene.find_surface(s.name) >= 0)
-            throw Error(s.loc, "surface name '" + s.name + "' is used twice; names must be unique");
-        total += static_cast<long long>(s.ns) * s.nt;
-        if (total > kMaxPatches)
-            throw Error(s.loc, "the scene has more than " + std::to_string(kMaxPatches) +
-                                   " patches; the dense form-factor matrix would need " +
-                                   std::to_string(total * total * 8 / 1000000000) +
-                                   " GB or more (use fewer patches)");
-        scene.surfaces.push_back(std::move(s));
-    }
+    for (size_t i = 0; i < list.size(); ++i)
+        for (SurfaceDesc& s : read_surface(list[i], filename, static_cast<int>(i))) {
+            if (scene.find_surface(s.name) >= 0)
+                throw Error(s.loc, "surface name '" + s.name + "' is used twice; names must be unique" +
+                                       (s.name.ends_with(".back") ? " (a two-sided surface's back side is "
+                                                                    "named <name>.back)"
+                                                                  : ""));
+            total += static_cast<long long>(s.ns) * s.nt;
+            if (total > kMaxPatches)
+                throw Error(s.loc, "the scene has more than " + std::to_string(kMaxPatches) +
+                                       " patches; the dense form-factor matrix would need " +
+                                       std::to_string(total * total * 8 / 1000000000) +
+                                       " GB or more (use fewer patches)");
+            scene.surfaces.push_back(std::move(s));
+        }
     return scene;
 }
 

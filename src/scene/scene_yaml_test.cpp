@@ -123,7 +123,8 @@ TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
 TEST(SceneYaml, UnknownKeyNamesItsLine) {
     EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    colour: [1, 1, 1]\n")),
               "s.yaml:7:5: unknown key 'colour' in surface #1 (allowed: name, type, corners | origin + "
-              "edge_s + edge_t, patches, reflectance, emission, patch_emission)");
+              "edge_s + edge_t, patches, reflectance, emission, patch_emission, transform, two_sided, "
+              "back_reflectance, back_emission)");
 }
 
 TEST(SceneYaml, MissingFieldNamesTheSurface) {
@@ -216,7 +217,7 @@ TEST(SceneYaml, UnknownSurfaceType) {
     EXPECT_EQ(
         parse_error(
             "surfaces:\n  - name: t\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-        "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere)");
+        "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone)");
 }
 
 TEST(SceneYaml, MalformedEmptyAndBinaryFiles) {

@@ -105,6 +105,16 @@ BoundingSphere QuadSurface::bound(double s0, double s1, double t0, double t1) co
     return {mid, r};
 }
 
+double QuadSurface::max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
+                                           double t1) const {
+    double d = 0.0;
+    for (const Vec3& c : {point(s0, t0), point(s1, t0), point(s1, t1), point(s0, t1)}) {
+        const Vec3 q = c - p;
+        d = std::max(d, glm::length(q - glm::dot(q, u) * u));
+    }
+    return d;
+}
+
 void QuadSurface::write_key(ByteWriter& w) const {
     for (const Vec3& c : m_corners)
         for (int k = 0; k < 3; ++k) w.f64(c[k]);

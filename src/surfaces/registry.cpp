@@ -5,9 +5,13 @@ namespace radiosa {
 // Defined in each type's own file.
 extern const SurfaceType kQuadType;
 extern const SurfaceType kSphereType;
+extern const SurfaceType kDiskType;
+extern const SurfaceType kCylinderType;
+extern const SurfaceType kConeType;
 
 const std::vector<const SurfaceType*>& surface_types() {
-    static const std::vector<const SurfaceType*> types = {&kQuadType, &kSphereType};
+    static const std::vector<const SurfaceType*> types = {&kQuadType, &kSphereType, &kDiskType,
+                                                          &kCylinderType, &kConeType};
     return types;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "surfaces/registry.h"
+#include "surfaces/revolution.h"
 
 namespace radiosa {
 
@@ -66,22 +67,6 @@ double SphereSurface::area(double s0, double s1, double t0, double t1) const {
     return m_radius * m_radius * dphi * (std::cos(kPi * (1.0 - t1)) - std::cos(kPi * (1.0 - t0)));
 }
 
-namespace {
-
-// The range of amp * cos(x - phase) over [lo, hi] (amp >= 0).
-std::pair<double, double> cosine_range(double amp, double phase, double lo, double hi) {
-    double a = amp * std::cos(lo - phase), b = amp * std::cos(hi - phase);
-    std::pair<double, double> r{std::min(a, b), std::max(a, b)};
-    // The peaks phase + 2 pi k and troughs phase + pi + 2 pi k inside (lo, hi).
-    const double k_max = std::ceil((lo - phase) / (2.0 * kPi));
-    if (phase + 2.0 * kPi * k_max < hi) r.second = amp;
-    const double k_min = std::ceil((lo - phase - kPi) / (2.0 * kPi));
-    if (phase + kPi + 2.0 * kPi * k_min < hi) r.first = -amp;
-    return r;
-}
-
-}  // namespace
-
 std::pair<double, double> SphereSurface::linear_range(const Vec3& a, double s0, double s1, double t0,
                                                       double t1) const {
     // a . (P - c) / R = sin(theta) A(phi) + a_z cos(theta), A(phi) = a_x cos(phi) + a_y sin(phi),
@@ -115,16 +100,8 @@ namespace {
 // angle pi (1 - t) from +z (t = 0 the south pole, t = 1 the north pole).
 std::shared_ptr<const Surface> read_sphere(YamlMap& m, const std::string&) {
     const Vec3 center = m.vec3("center");
-    const YAML::Node r = m.required("radius");
-    const double radius = yaml_number(r, m.file(), "radius");
-    if (!(radius > 0.0)) throw Error(loc_of(r, m.file()), "radius must be > 0, got " + r.Scalar());
-    bool inward = false;
-    if (auto facing = m.optional("facing")) {
-        const std::string f = yaml_string(*facing, m.file(), "facing");
-        if (f != "outward" && f != "inward")
-            throw Error(loc_of(*facing, m.file()), "facing must be 'outward' or 'inward', got '" + f + "'");
-        inward = f == "inward";
-    }
+    const double radius = read_length(m, "radius");
+    const bool inward = read_facing_inward(m);
     return std::make_shared<SphereSurface>(center, radius, inward);
 }
 

@@ -21,6 +21,11 @@ public:
     bool chords_never_cross() const override { return true; }
     bool front_segments_escape() const override { return m_orientation > 0.0; }
     bool sees_itself() const override { return m_orientation < 0.0; }
+    bool back_segments_escape() const override { return m_orientation < 0.0; }
+    bool back_sees_itself() const override { return m_orientation > 0.0; }
+    std::optional<ConvexSolid> convex_solid() const override {
+        return ConvexSolid{false, m_center, Vec3(0, 0, 1), m_radius};
+    }
     bool wraps_in_s() const override { return true; }
     bool pole_at_t0() const override { return true; }
     bool pole_at_t1() const override { return true; }

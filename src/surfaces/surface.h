@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "util/bytes.h"
 #include "util/math.h"
@@ -26,6 +27,24 @@ struct SurfaceHit {
 };
 
 enum class HitSide { Any, FrontOnly };
+
+// A convex solid: the ball |y - center| <= radius, or the infinite cylinder of that radius
+// about the line through center along the unit vector axis.
+struct ConvexSolid {
+    bool cylinder = false;
+    Vec3 center{0.0};
+    Vec3 axis{0.0, 0.0, 1.0};
+    double radius = 0.0;
+};
+
+// A piece of a patch's boundary: the segment from a to b, or the arc
+// center + radius (cos u e1 + sin u e2) for u running from `from` to `to` (either order).
+struct ContourPiece {
+    bool arc = false;
+    Vec3 a{0.0}, b{0.0};
+    Vec3 center{0.0}, e1{0.0}, e2{0.0};
+    double radius = 0.0, from = 0.0, to = 0.0;
+};
 
 class Surface {
 public:
@@ -66,6 +85,9 @@ public:
     virtual bool patches_are_polygons() const { return false; }
     // Centre and radius of a spherical surface.
     virtual std::optional<BoundingSphere> sphere() const { return std::nullopt; }
+    // A spherical surface's axes (columns: local x, y, z; its parameter poles lie on local +-z
+    // and azimuth 0 on local +x): the identity unless a transform rotated it.
+    virtual Mat3 sphere_axes() const { return Mat3(1.0); }
 
     // True when a chord between two of its points never crosses the surface elsewhere
     // (planes, spheres): then it can be left out of the occlusion test for its own pairs.
@@ -75,6 +97,37 @@ public:
     virtual bool front_segments_escape() const = 0;
     // True when a patch can see another patch of the same surface (concave side in front).
     virtual bool sees_itself() const = 0;
+    // The boundary of the parameter rectangle, run counter-clockwise about the front normal,
+    // when it is made of segments and circle arcs (disk sectors, cylinder patches): the contour
+    // form of the inner form-factor integral (formfactor/contour_receiver.h). False otherwise.
+    virtual bool patch_contour(double, double, double, double, std::vector<ContourPiece>*) const {
+        return false;
+    }
+    // The convex solid whose boundary holds the whole surface (a ball, or an infinite round
+    // cylinder), if there is one: a segment from a point inside it meets the surface only at its
+    // ends, and the surface's concave side faces every point inside.
+    virtual std::optional<ConvexSolid> convex_solid() const { return std::nullopt; }
+    // The largest distance of a point of the parameter rectangle from the line through p along
+    // the unit vector u: exact where the line is the surface's own axis and for polygon patches;
+    // this default, from bound(), may be larger but never smaller.
+    virtual double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
+                                          double t1) const {
+        const BoundingSphere b = bound(s0, s1, t0, t1);
+        const Vec3 q = b.center - p;
+        return glm::length(q - glm::dot(q, u) * u) + b.radius;
+    }
+    // True when every point of the ball lies on the convex side's front (the back, if `back`):
+    // in front of the tangent plane of every point of the parameter rectangle, with no part of
+    // the surface hiding another from it.
+    virtual bool faces_ball(double, double, double, double, const BoundingSphere&, bool /*back*/) const {
+        return false;
+    }
+    // The same two answers for the surface's back side (two-sided surfaces, surfaces/placed.h).
+    // The defaults are the safe ones: more occlusion tests and self pairs, never a wrong value.
+    virtual bool back_segments_escape() const { return false; }
+    virtual bool back_sees_itself() const { return true; }
+    // +1 when the front normal is dP/ds x dP/dt, -1 when it is the opposite.
+    double orientation() const { return m_orientation; }
     // Topology of the parameter domain, for averaging radiosities at shared nodes.
     virtual bool wraps_in_s() const { return false; }  // s = 0 and s = 1 coincide
     virtual bool pole_at_t0() const { return false; }  // the whole edge t = 0 is one point

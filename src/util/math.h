@@ -1,11 +1,13 @@
 #pragma once
 // Basic numeric types shared by every stage: double precision throughout.
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 namespace radiosa {
 
 using Vec3 = glm::dvec3;
+using Mat3 = glm::dmat3;  // column-major: m[k] is column k
 // Linear RGB triple: reflectance, emission and radiosity per colour channel.
 using Rgb = glm::dvec3;
 

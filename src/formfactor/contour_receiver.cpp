@@ -1,0 +1,151 @@
+#include "formfactor/contour_receiver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace radiosa {
+
+ContourValue point_to_contour(const Vec3& x, const Vec3& n, const std::vector<ContourPiece>& pieces,
+                              double tol) {
+    const double eps = std::numeric_limits<double>::epsilon();
+    std::size_t arcs = 0;
+    for (const ContourPiece& p : pieces) arcs += p.arc ? 1 : 0;
+    const double arc_tol = tol * 2 * kPi / static_cast<double>(std::max<std::size_t>(1, arcs));
+    double sum = 0.0, err = 0.0;
+    for (const ContourPiece& p : pieces) {
+        if (!p.arc) {
+            // Along a segment r x dr = a x b du, and the integral of du / |r|^2 is the angle the
+            // segment subtends over |a x b|.
+            const Vec3 a = p.a - x, b = p.b - x;
+            const Vec3 axb = glm::cross(a, b);
+            const double len = glm::length(axb);
+            if (!(len > eps * glm::dot(a, a) + eps * glm::dot(b, b))) continue;  // x on its line
+            const double v = glm::dot(n, axb) / len * std::atan2(len, glm::dot(a, b));
+            sum += v;
+            err += 8 * eps * (std::abs(v) + 1.0);
+            continue;
+        }
+        Circle k;
+        k.c = p.center;
+        k.e1 = p.e1;
+        k.e2 = p.e2;
+        k.n = glm::cross(p.e1, p.e2);
+        k.rho = p.radius;
+        if (!(k.rho > 0.0)) continue;
+        const double sense = p.to >= p.from ? 1.0 : -1.0;
+        const double lo = std::min(p.from, p.to), hi = std::max(p.from, p.to);
+        const double nearest = k.nearest_angle(x);
+        const ContourValue v = circle_arc_integral(k, x, n, nearest, lo, hi, arc_tol);
+        sum += sense * v.value;
+        const double gap = glm::length(k.at(nearest) - x);
+        err += v.error +
+               4 * eps * (glm::length(x - k.c) + k.rho) / std::max(gap, eps * k.rho) * std::abs(v.value);
+    }
+    ContourValue out;
+    out.value = -sum / (2 * kPi);
+    out.error = err / (2 * kPi);
+    return out;
+}
+
+namespace {
+
+// Convex from inside: every point of the surface sees the rest of its solid in front.
+bool convex_from_inside(const Surface& s) { return s.sees_itself() && s.chords_never_cross(); }
+
+// Whether patch p lies in the convex solid whose boundary holds surface k.
+bool inside_solid(const SceneGeometry& g, const Patch& p, int k) {
+    if (p.surface == k) return true;
+    const auto solid = g.surface(k).convex_solid();
+    if (!solid) return false;
+    const double limit = solid->radius * (1.0 + 1e-12);
+    if (solid->cylinder)
+        return g.surface(p.surface).max_distance_from_line(solid->center, solid->axis, p.s0, p.s1, p.t0,
+                                                           p.t1) <= limit;
+    if (p.polygon) {
+        for (const Vec3& c : p.corners)
+            if (glm::length(c - solid->center) > limit) return false;
+        return true;
+    }
+    return glm::length(p.bound.center - solid->center) + p.bound.radius <= limit;
+}
+
+}  // namespace
+
+std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, int j,
+                                                const std::vector<int>& blockers, bool visibility) {
+    const Patch& pi = g.patch(i);
+    const Patch& pj = g.patch(j);
+    const Surface& si = g.surface(pi.surface);
+    const Surface& sj = g.surface(pj.surface);
+    ContourReceiver how;
+    if (!sj.patch_contour(pj.s0, pj.s1, pj.t0, pj.t1, &how.pieces)) return std::nullopt;
+    const double eps = 1e-12 * g.scale();
+    how.contains_x = i == j;
+    if (i == j && !convex_from_inside(sj)) return std::nullopt;
+    // Nothing in between: a segment between points inside a convex solid stays inside it.
+    if (visibility)
+        for (const int k : blockers) {
+            const bool clear = k == pi.surface && k == pj.surface
+                                   ? g.surface(k).chords_never_cross()
+                                   : inside_solid(g, pi, k) && inside_solid(g, pj, k);
+            if (!clear) return std::nullopt;
+        }
+    // All of j in front of the tangent plane of every x.
+    if (const auto p = si.plane()) {
+        if (sj.linear_range(p->normal, pj.s0, pj.s1, pj.t0, pj.t1).first < p->offset - eps)
+            return std::nullopt;
+    } else if (!(convex_from_inside(si) && inside_solid(g, pj, pi.surface))) {
+        return std::nullopt;
+    }
+    // Every x in front of every point of j.
+    if (const auto p = sj.plane()) {
+        if (si.linear_range(p->normal, pi.s0, pi.s1, pi.t0, pi.t1).first < p->offset - eps)
+            return std::nullopt;
+    } else if (!(convex_from_inside(sj) ? inside_solid(g, pi, pj.surface)
+                                        : sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false))) {
+        return std::nullopt;
+    }
+    return how;
+}
+
+Estimate area_times_f_contour(const SceneGeometry& g, int i, int j, const ContourReceiver& how, double tol,
+                              const GaussRule& outer, int max_regions) {
+    const Patch& pi = g.patch(i);
+    const Patch& pj = g.patch(j);
+    const Surface& si = g.surface(pi.surface);
+    const double inner_tol = std::max(1e-15, 0.05 * tol * std::min(pi.area, pj.area) / pi.area);
+    auto contour_at = [&](double s, double t, double* da) {
+        const Vec3 nrm = si.normal(s, t);
+        *da = glm::length(nrm);
+        if (!(*da > 0.0)) return ContourValue{};
+        ContourValue v = point_to_contour(si.point(s, t), nrm / *da, how.pieces, inner_tol);
+        if (how.contains_x) v.value += 1.0;
+        return v;
+    };
+    auto gx = [&](double s, double t) {
+        double da = 0.0;
+        const ContourValue v = contour_at(s, t, &da);
+        return da * v.value;
+    };
+    auto quarters = [&](const Rect& r, double) {
+        if (r.s1 - r.s0 > 0.5 * (pi.s1 - pi.s0) * (1 + 1e-12)) return Cut{0};
+        if (r.t1 - r.t0 > 0.5 * (pi.t1 - pi.t0) * (1 + 1e-12)) return Cut{1};
+        return Cut{};
+    };
+    const double region_tol = tol * std::min(pi.area, pj.area);
+    std::vector<Rect> leaves;
+    Estimate e = adaptive_rect(gx, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.9 * region_tol, max_regions, outer,
+                               quarters, NoSuspects{}, &leaves);
+    // The inner integrals' errors, integrated over the final regions: near a touching edge x
+    // comes close to an arc only over a sliver, where its rounding estimate peaks.
+    auto ex = [&](double s, double t) {
+        double da = 0.0;
+        const ContourValue v = contour_at(s, t, &da);
+        return da * v.error;
+    };
+    for (const Rect& r : leaves) e.error += kSafety * tensor_gauss(ex, r, outer);
+    return e;
+}
+
+}  // namespace radiosa
