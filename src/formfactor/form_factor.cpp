@@ -15,6 +15,7 @@
 
 #include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
+#include "formfactor/culling.h"
 #include "formfactor/events.h"
 #include "formfactor/point_polygon.h"
 #include "formfactor/polygon_polygon.h"
@@ -29,25 +30,9 @@ namespace radiosa {
 
 namespace {
 
-// Signed distance range of a patch from a plane: from its corners for a polygon, exact from
-// Surface::linear_range otherwise.
-std::pair<double, double> extent(const SceneGeometry& g, const Patch& p, const Plane& plane) {
-    if (p.polygon) {
-        double lo = plane.signed_distance(p.corners[0]), hi = lo;
-        for (int k = 1; k < 4; ++k) {
-            const double d = plane.signed_distance(p.corners[k]);
-            lo = std::min(lo, d);
-            hi = std::max(hi, d);
-        }
-        return {lo, hi};
-    }
-    const auto [lo, hi] = g.surface(p.surface).linear_range(plane.normal, p.s0, p.s1, p.t0, p.t1);
-    return {lo - plane.offset, hi - plane.offset};
-}
-
 class Integrator {
 public:
-    Integrator(const SceneGeometry& g, const FormFactorOptions& o) : m_geo(g), m_opt(o) {
+    Integrator(const SceneGeometry& g, const FormFactorOptions& o) : m_geo(g), m_opt(o), m_cull(g) {
         const GaussRule rule = gauss_legendre(o.gauss_points);
         const GaussRule offset_rule = gauss_legendre(o.gauss_points + 1);
         m_points.resize(g.patch_count());
@@ -60,86 +45,12 @@ public:
             // term pairs a point with itself (L = 0).
             if (surf.sees_itself()) m_self_points[i] = quadrature_points(surf, p, offset_rule);
         }
-        m_eps = 1e-12 * g.scale();
     }
 
-    // True when no energy can pass between the two patches: either one lies entirely
-    // behind or in the plane of the other (this covers patches of one planar surface), or
-    // both are patches of one surface that cannot see itself.
-    bool culled(int i, int j) const {
-        const Patch& pi = m_geo.patch(i);
-        const Patch& pj = m_geo.patch(j);
-        if (!m_opt.culling) return false;
-        if (pi.surface == pj.surface && !m_geo.surface(pi.surface).sees_itself()) return true;
-        if (auto pl = m_geo.surface(pi.surface).plane(); pl && extent(m_geo, pj, *pl).second <= m_eps)
-            return true;
-        if (auto pl = m_geo.surface(pj.surface).plane(); pl && extent(m_geo, pi, *pl).second <= m_eps)
-            return true;
-        return false;
-    }
-
-    double eps() const { return m_eps; }  // lengths below this are zero at the scene's scale
-
-    // True when surface s provably keeps clear of every segment between the two polygon
-    // patches: those segments fill the convex hull of their 8 corners, and a sphere farther
-    // from it than its radius, or a planar convex polygon at a positive distance, meets none.
-    bool hull_misses(const Patch& pi, const Patch& pj, const Surface& s) const {
-        const std::array<Vec3, 8> hull = {pi.corners[0], pi.corners[1], pi.corners[2], pi.corners[3],
-                                          pj.corners[0], pj.corners[1], pj.corners[2], pj.corners[3]};
-        if (const auto sph = s.sphere()) {
-            const std::array<Vec3, 1> c = {sph->center};
-            const double margin = sph->radius + m_eps;
-            return convex_distance(hull, c, margin) > margin;
-        }
-        if (s.plane() && s.patches_are_polygons()) {
-            const std::array<Vec3, 4> q = {s.point(0, 0), s.point(1, 0), s.point(1, 1), s.point(0, 1)};
-            return convex_distance(hull, q, m_eps) > m_eps;
-        }
-        return false;
-    }
-
-    // Surfaces that might block a segment between the two patches; the rest are proven
-    // unable to and skip the per-point tests.
+    bool culled(int i, int j) const { return m_opt.culling && m_cull.culled(i, j); }
+    double eps() const { return m_cull.eps(); }  // lengths below this are zero at the scene's scale
     void occluders(int i, int j, std::vector<int>* out, FormFactorStats* st) const {
-        out->clear();
-        const Patch& pi = m_geo.patch(i);
-        const Patch& pj = m_geo.patch(j);
-        const double reach = std::max(pi.bound.radius, pj.bound.radius);
-        for (int k = 0; k < m_geo.surface_count(); ++k) {
-            const Surface& s = m_geo.surface(k);
-            ++st->occluder_checks;
-            const bool on_i = pi.surface == k, on_j = pj.surface == k;
-            bool can_block = true;
-            if (!m_opt.culling) {
-                out->push_back(k);
-                continue;
-            }
-            if (on_i && on_j)
-                can_block = !s.chords_never_cross();
-            else if (on_i || on_j)
-                can_block = !s.front_segments_escape();
-            if (can_block)
-                if (auto pl = s.plane()) {
-                    // A segment between points on one closed side of a plane cannot cross it.
-                    const auto ei = extent(m_geo, pi, *pl), ej = extent(m_geo, pj, *pl);
-                    if ((ei.first >= -m_eps && ej.first >= -m_eps) ||
-                        (ei.second <= m_eps && ej.second <= m_eps))
-                        can_block = false;
-                }
-            if (can_block) {
-                // Every point of a segment between the patches lies within `reach` of the
-                // segment between their bounding centres.
-                const BoundingSphere& b = m_geo.surface_bound(k);
-                if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach)
-                    can_block = false;
-            }
-            if (can_block && pi.polygon && pj.polygon && !on_i && !on_j) can_block = !hull_misses(pi, pj, s);
-            if (can_block)
-                out->push_back(k);
-            else
-                ++st->occluders_culled;
-        }
-        if (out->empty()) ++st->pairs_unoccluded;
+        m_cull.occluders(i, j, m_opt.culling, out, st);
     }
 
     // The double integral of the symmetric kernel: G_ij = pi A_i F_ij = pi A_j F_ji.
@@ -197,7 +108,7 @@ private:
     const SceneGeometry& m_geo;
     const FormFactorOptions& m_opt;
     std::vector<std::vector<QuadPoint>> m_points, m_self_points;
-    double m_eps = 0.0;
+    Culling m_cull;
 };
 
 // ---- error-controlled form factors ----

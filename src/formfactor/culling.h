@@ -1,0 +1,31 @@
+#pragma once
+// Work proven useless, left out of the form-factor integrals: pairs that cannot exchange energy,
+// and surfaces that cannot come between a pair (so no segment between them is tested).
+#include <vector>
+
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+
+namespace radiosa {
+
+class Culling {
+public:
+    explicit Culling(const SceneGeometry& g);
+    double eps() const { return m_eps; }  // lengths below this are zero at the scene's scale
+
+    // True when no energy can pass between the two patches: either one lies entirely behind or
+    // in the plane of the other (this covers patches of one planar surface), or both are
+    // patches of one surface that cannot see itself.
+    bool culled(int i, int j) const;
+    // Surfaces that might block a segment between the two patches (every surface when
+    // culling is off); the rest are proven unable to.
+    void occluders(int i, int j, bool culling, std::vector<int>* out, FormFactorStats* st) const;
+
+private:
+    bool hull_misses(const Patch& pi, const Patch& pj, const Surface& s) const;
+    bool slab_separates(const Patch& pi, const Patch& pj, int k) const;
+    const SceneGeometry& m_geo;
+    double m_eps;
+};
+
+}  // namespace radiosa
