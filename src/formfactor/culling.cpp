@@ -31,11 +31,14 @@ Culling::Culling(const SceneGeometry& g) : m_geo(g), m_eps(1e-12 * g.scale()) {}
 
 // True when no energy can pass between the two patches: either one lies entirely
 // behind or in the plane of the other (this covers patches of one planar surface), or
-// both are patches of one surface that cannot see itself.
+// both are patches of one surface that cannot see itself, or of the two sides of a surface.
 bool Culling::culled(int i, int j) const {
     const Patch& pi = m_geo.patch(i);
     const Patch& pj = m_geo.patch(j);
     if (pi.surface == pj.surface && !m_geo.surface(pi.surface).sees_itself()) return true;
+    // The two sides of a surface whose chords stay off it (a plane, a ball's or a cylinder's
+    // boundary) face away from each other.
+    if (m_geo.twin(pi.surface) == pj.surface && m_geo.surface(pi.surface).chords_never_cross()) return true;
     if (auto pl = m_geo.surface(pi.surface).plane(); pl && extent(m_geo, pj, *pl).second <= m_eps)
         return true;
     if (auto pl = m_geo.surface(pj.surface).plane(); pl && extent(m_geo, pi, *pl).second <= m_eps)
@@ -94,15 +97,21 @@ void Culling::occluders(int i, int j, bool culling, std::vector<int>* out, FormF
         const Surface& s = m_geo.surface(k);
         ++st->occluder_checks;
         const bool on_i = pi.surface == k, on_j = pj.surface == k;
+        // The other side of a patch's own surface: the same geometry, which the segment leaves
+        // from its back.
+        const bool back_i = m_geo.twin(k) >= 0 && m_geo.twin(k) == pi.surface,
+                   back_j = m_geo.twin(k) >= 0 && m_geo.twin(k) == pj.surface;
         bool can_block = true;
         if (!culling) {
             out->push_back(k);
             continue;
         }
-        if (on_i && on_j)
+        if ((on_i || back_i) && (on_j || back_j))
             can_block = !s.chords_never_cross();
         else if (on_i || on_j)
             can_block = !s.front_segments_escape();
+        else if (back_i || back_j)
+            can_block = !s.back_segments_escape();
         if (can_block)
             if (auto pl = s.plane()) {
                 // A segment between points on one closed side of a plane cannot cross it.
@@ -117,8 +126,9 @@ void Culling::occluders(int i, int j, bool culling, std::vector<int>* out, FormF
             if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach)
                 can_block = false;
         }
-        if (can_block && !on_i && !on_j && slab_separates(pi, pj, k)) can_block = false;
-        if (can_block && pi.polygon && pj.polygon && !on_i && !on_j) can_block = !hull_misses(pi, pj, s);
+        const bool own = on_i || on_j || back_i || back_j;
+        if (can_block && !own && slab_separates(pi, pj, k)) can_block = false;
+        if (can_block && pi.polygon && pj.polygon && !own) can_block = !hull_misses(pi, pj, s);
         if (can_block)
             out->push_back(k);
         else

@@ -16,6 +16,7 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
         m_names.push_back(desc.name);
         m_ns.push_back(desc.ns);
         m_nt.push_back(desc.nt);
+        m_twin.push_back(desc.twin);
         m_first_patch.push_back(static_cast<int>(m_patches.size()));
         const Surface& surf = *m_surfaces.back();
         const bool polygon = surf.patches_are_polygons();

@@ -42,6 +42,8 @@ public:
     int ns(int k) const { return m_ns[k]; }
     int nt(int k) const { return m_nt[k]; }
     int first_patch(int k) const { return m_first_patch[k]; }
+    // The other side of a two-sided surface (the same geometry, facing the other way), or -1.
+    int twin(int k) const { return m_twin[k]; }
     int patch_index(int k, int is, int it) const { return m_first_patch[k] + it * m_ns[k] + is; }
 
     int patch_count() const { return static_cast<int>(m_patches.size()); }
@@ -63,7 +65,7 @@ public:
 private:
     std::vector<std::shared_ptr<const Surface>> m_surfaces;
     std::vector<std::string> m_names;
-    std::vector<int> m_ns, m_nt, m_first_patch;
+    std::vector<int> m_ns, m_nt, m_first_patch, m_twin;
     std::vector<Patch> m_patches;
     std::vector<BoundingSphere> m_surface_bounds;
     double m_scale = 1.0;

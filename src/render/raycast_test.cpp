@@ -39,6 +39,39 @@ TEST(Raycast, SphereSilhouetteCoversTheAnalyticArea) {
     }
 }
 
+TEST(Raycast, DiskAndCylinderSilhouettesCoverTheAnalyticArea) {
+    // A disk of radius R facing the eye at distance D projects to a disc of radius f R / D; a
+    // two-sided one shows the same disc from behind. A vertical tube far taller than the view
+    // projects to a band between the tangent lines, 2 f tan(asin(R / D)) pixels wide.
+    const Scene s = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: plate, type: disk, center: [0, 0, 0], normal: [1, 0, 0], radius: 1, patches: [8, 2],\n"
+        "     reflectance: [0.5, 0.5, 0.5], two_sided: true}\n"
+        "  - {name: tube, type: cylinder, base: [-20, 0, -500], axis: [0, 0, 1000], radius: 1.5, patches: "
+        "[8, 1],\n"
+        "     reflectance: [0.5, 0.5, 0.5]}\n",
+        "shapes.yaml");
+    const SceneGeometry geo(s);
+    ASSERT_EQ(geo.surface_count(), 3);
+    const RenderOptions opt{160, 120, 4};
+    for (const double side : {1.0, -1.0}) {
+        CameraDesc cd;
+        cd.eye = Vec3(6 * side, 0, 0);
+        cd.fov_deg = 50;
+        const PinholeCamera cam(cd, opt.width, opt.height);
+        const double r = cam.focal_pixels() / 6.0;
+        EXPECT_NEAR(surface_coverage(geo, side > 0 ? 0 : 1, cam, opt), kPi * r * r, 0.01 * kPi * r * r)
+            << side;
+    }
+    CameraDesc cd;
+    cd.eye = Vec3(-10, 0, 0);
+    cd.look_at = Vec3(-20, 0, 0);
+    cd.fov_deg = 50;
+    const PinholeCamera cam(cd, opt.width, opt.height);
+    const double width = 2 * cam.focal_pixels() * std::tan(std::asin(1.5 / 10.0));
+    EXPECT_NEAR(surface_coverage(geo, 2, cam, opt), width * opt.height, 0.01 * width * opt.height);
+}
+
 // Sub-pixel rays sit at the centres of their cells: a sphere in the middle of the view renders
 // left-right and top-bottom symmetric, with one ray per pixel and with four.
 TEST(Raycast, SamplesAtCellCentresKeepASymmetricViewSymmetric) {

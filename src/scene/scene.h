@@ -32,6 +32,8 @@ struct SurfaceDesc {
     Rgb reflectance{0.0};
     Rgb emission{0.0};
     std::vector<PatchEmission> patch_emission;
+    // The index of the other side of a two-sided surface (two_sided: true), else -1.
+    int twin = -1;
 };
 
 // The scene file's form_factors block; what it does not give, the command line or the

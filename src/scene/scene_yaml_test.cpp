@@ -291,3 +291,63 @@ TEST(CameraYaml, ErrorsNameTheirLine) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+TEST(SceneYaml, CurvedTypesAndPlacementNameTheBadValue) {
+    auto one = [](const std::string& body) {
+        return parse_error("surfaces:\n  - {name: a, patches: [2, 2], reflectance: [0, 0, 0], " + body +
+                           "}\n");
+    };
+    EXPECT_EQ(one("type: disk, center: [0, 0, 0], normal: [0, 0, 0], radius: 1"),
+              "s.yaml:2:95: normal must be a non-zero vector [x, y, z]");
+    EXPECT_EQ(one("type: disk, center: [0, 0, 0], normal: [0, 0, 1], radius: 1, inner_radius: 1"),
+              "s.yaml:2:117: disk 'a': inner_radius must be smaller than radius (1)");
+    EXPECT_EQ(one("type: disk, center: [0, 0, 0], normal: [0, 0, 1], radius: 1, angles_deg: [90, 10]"),
+              "s.yaml:2:129: angles_deg [from, to] needs from < to <= from + 360, got [90, 10]");
+    EXPECT_EQ(one("type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: .nan"),
+              "s.yaml:2:114: radius must be a finite number, got '.nan'");
+    EXPECT_EQ(one("type: cone, base: [0, 0, 0], axis: [0, 0, 1], radius: 1, top_radius: -0.5"),
+              "s.yaml:2:125: top_radius must be >= 0, got -0.5");
+    EXPECT_EQ(one("type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: 1, facing: sideways"),
+              "s.yaml:2:125: facing must be 'outward' or 'inward', got 'sideways'");
+    EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, transform: {scale: -2}"),
+              "s.yaml:2:119: transform scale must be > 0 (a uniform scale), got -2");
+    EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, transform: {rotate_deg: {axis: [0, 0, 1]}}"),
+              "s.yaml:2:124: rotate_deg is missing the required key 'angle'");
+    EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, transform: {shear: 2}"),
+              "s.yaml:2:112: unknown key 'shear' in transform (allowed: scale, rotate_deg, translate)");
+    EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, back_reflectance: [0, 0, 0]"),
+              "s.yaml:2:100: back_reflectance needs two_sided: true on surface 'a'");
+    // A user's name cannot take the place of a two-sided surface's back.
+    EXPECT_EQ(
+        parse_error(
+            "surfaces:\n"
+            "  - {name: a, type: sphere, center: [0, 0, 0], radius: 1, patches: [1, 1], reflectance: [0, "
+            "0, 0], two_sided: true}\n"
+            "  - {name: a.back, type: sphere, center: [0, 0, 0], radius: 2, patches: [1, 1], "
+            "reflectance: [0, 0, 0]}\n"),
+        "s.yaml:3:5: surface name 'a.back' is used twice; names must be unique (a two-sided surface's "
+        "back side is named <name>.back)");
+}
+
+TEST(SceneYaml, TwoSidedSurfacesBecomeTwinSurfaces) {
+    const Scene s = parse_scene(
+        "surfaces:\n  - {name: lamp, type: disk, center: [0, 0, 1], normal: [0, 0, -1], radius: 0.5, "
+        "patches: [4, 1],"
+        " reflectance: [0.5, 0.5, 0.5], emission: [3, 3, 3], two_sided: true, back_emission: [1, 0, 0]}\n",
+        "lamp.yaml");
+    ASSERT_EQ(s.surfaces.size(), 2u);
+    EXPECT_EQ(s.surfaces[1].name, "lamp.back");
+    EXPECT_EQ(s.surfaces[0].twin, 1);
+    EXPECT_EQ(s.surfaces[1].twin, 0);
+    EXPECT_EQ(s.surfaces[1].emission, Rgb(1, 0, 0));
+    EXPECT_EQ(s.surfaces[1].reflectance, Rgb(0.5));
+    EXPECT_EQ(s.patch_count(), 8);
+    // The back's normal is the front's reversed.
+    const Vec3 nf = s.surfaces[0].shape->normal(0.3, 0.6), nb = s.surfaces[1].shape->normal(0.3, 0.6);
+    EXPECT_NEAR(glm::dot(glm::normalize(nf), glm::normalize(nb)), -1.0, 1e-15);
+    EXPECT_LT(nf.z, 0.0);
+}
+
+}  // namespace radiosa
