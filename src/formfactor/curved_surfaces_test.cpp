@@ -30,12 +30,15 @@ double surface_factor(const Scene& scene, const FormFactors& ff, int a, int b) {
     double num = 0.0, area = 0.0;
     for (int i = g.first_patch(a); i < g.first_patch(a) + g.ns(a) * g.nt(a); ++i) {
         area += ff.area[i];
-        for (int j = g.first_patch(b); j < g.first_patch(b) + g.ns(b) * g.nt(b); ++j) num += ff.area[i] * ff.F(i, j);
+        for (int j = g.first_patch(b); j < g.first_patch(b) + g.ns(b) * g.nt(b); ++j)
+            num += ff.area[i] * ff.F(i, j);
     }
     return num / area;
 }
 
-double err_of(const FormFactors& ff, int i, int j) { return ff.error[static_cast<std::size_t>(i) * ff.F.n + j]; }
+double err_of(const FormFactors& ff, int i, int j) {
+    return ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
+}
 
 double max_row_error(const FormFactors& ff) {
     double worst = 0.0;
@@ -50,8 +53,8 @@ double max_row_error(const FormFactors& ff) {
 std::string disk(const std::string& name, const std::string& center, const std::string& normal, double r,
                  double inner, const std::string& patches) {
     return "  - {name: " + name + ", type: disk, center: " + center + ", normal: " + normal +
-           ", radius: " + std::to_string(r) + ", inner_radius: " + std::to_string(inner) + ", patches: " + patches +
-           ", reflectance: [0.5, 0.5, 0.5]}\n";
+           ", radius: " + std::to_string(r) + ", inner_radius: " + std::to_string(inner) +
+           ", patches: " + patches + ", reflectance: [0.5, 0.5, 0.5]}\n";
 }
 
 // The inside of a closed can: radius 1, height 2, bottom and top disks and the tube.
@@ -68,10 +71,10 @@ std::string can(const std::string& patches, const std::string& extra = "") {
 TEST(CurvedSurfaces, CoaxialDisksMatchTheClosedForm) {
     // Disks of radius 0.5 and 1.5 one unit apart, whole and split into ring sectors.
     for (const char* patches : {"[1, 1]", "[3, 2]"}) {
-        const Scene scene = parse_scene("closed: false\nsurfaces:\n" +
-                                            disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, patches) +
-                                            disk("b", "[0, 0, 1]", "[0, 0, -1]", 1.5, 0, patches),
-                                        "disks.yaml");
+        const Scene scene =
+            parse_scene("closed: false\nsurfaces:\n" + disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, patches) +
+                            disk("b", "[0, 0, 1]", "[0, 0, -1]", 1.5, 0, patches),
+                        "disks.yaml");
         const double exact = coaxial_disks(0.5, 1.5, 1.0);
         for (double tol : {1e-6, 1e-10}) {
             SCOPED_TRACE(std::string(patches) + " at " + std::to_string(tol));
@@ -79,16 +82,17 @@ TEST(CurvedSurfaces, CoaxialDisksMatchTheClosedForm) {
             EXPECT_NEAR(surface_factor(scene, ff, 0, 1), exact, std::max(1e-8, tol));
             EXPECT_NEAR(surface_factor(scene, ff, 1, 0), exact * 0.25 / 2.25, std::max(1e-8, tol));
             // Each entry's true error is within its estimate: F_01 of one patch pair.
-            if (std::string(patches) == "[1, 1]") EXPECT_LE(std::abs(ff.F(0, 1) - exact), err_of(ff, 0, 1) + 1e-15);
+            if (std::string(patches) == "[1, 1]")
+                EXPECT_LE(std::abs(ff.F(0, 1) - exact), err_of(ff, 0, 1) + 1e-15);
         }
     }
 }
 
 TEST(CurvedSurfaces, AnnulusIsTheDifferenceOfTwoDisks) {
-    const Scene scene = parse_scene("closed: false\nsurfaces:\n" +
-                                        disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, "[1, 1]") +
-                                        disk("ring", "[0, 0, 1]", "[0, 0, -1]", 1.5, 0.6, "[2, 2]"),
-                                    "annulus.yaml");
+    const Scene scene =
+        parse_scene("closed: false\nsurfaces:\n" + disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, "[1, 1]") +
+                        disk("ring", "[0, 0, 1]", "[0, 0, -1]", 1.5, 0.6, "[2, 2]"),
+                    "annulus.yaml");
     const double exact = coaxial_disks(0.5, 1.5, 1.0) - coaxial_disks(0.5, 0.6, 1.0);
     const FormFactors ff = adaptive(scene, 1e-10);
     EXPECT_NEAR(surface_factor(scene, ff, 0, 1), exact, 1e-8);
@@ -174,8 +178,9 @@ TEST(CurvedSurfaces, TwoSidedDiskInABoxCloses) {
     for (int k = 0; k < 6; ++k)
         s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
              ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
-    s += "  - {name: plate, type: disk, center: [0, 0, 0.2], normal: [0, 0, 1], radius: 0.5, patches: [1, 1], "
-         "reflectance: [0.8, 0.8, 0.8], two_sided: true, back_reflectance: [0.1, 0.2, 0.3]}\n";
+    s +=
+        "  - {name: plate, type: disk, center: [0, 0, 0.2], normal: [0, 0, 1], radius: 0.5, patches: [1, 1], "
+        "reflectance: [0.8, 0.8, 0.8], two_sided: true, back_reflectance: [0.1, 0.2, 0.3]}\n";
     const Scene scene = parse_scene(s, "box.yaml");
     ASSERT_EQ(scene.surfaces.size(), 8u);
     EXPECT_EQ(scene.surfaces[7].name, "plate.back");
