@@ -62,12 +62,7 @@ bool inside_solid(const SceneGeometry& g, const Patch& p, int k) {
     if (solid->cylinder)
         return g.surface(p.surface).max_distance_from_line(solid->center, solid->axis, p.s0, p.s1, p.t0,
                                                            p.t1) <= limit;
-    if (p.polygon) {
-        for (const Vec3& c : p.corners)
-            if (glm::length(c - solid->center) > limit) return false;
-        return true;
-    }
-    return glm::length(p.bound.center - solid->center) + p.bound.radius <= limit;
+    return g.surface(p.surface).max_distance_from_point(solid->center, p.s0, p.s1, p.t0, p.t1) <= limit;
 }
 
 }  // namespace

@@ -119,6 +119,28 @@ TEST(CurvedSurfaces, InsideAClosedCanRowsSumToOne) {
     }
 }
 
+TEST(CurvedSurfaces, HemisphereOverItsBaseDisk) {
+    // The base sees only the dome (F = 1); the dome sends half its light to the base
+    // (A_base / A_dome = 1/2) and half to itself. A dome split 6 x 3, tipped 20 degrees with its
+    // base, and a quarter-turn azimuth range on a second, open dome.
+    const Scene scene = parse_scene(
+        "surfaces:\n"
+        "  - {name: dome, type: sphere, center: [0, 0, 0], radius: 1.5, facing: inward, polar_deg: [0, 90],\n"
+        "     patches: [6, 3], reflectance: [0.5, 0.5, 0.5], transform: {rotate_deg: {axis: [1, 0, 0], "
+        "angle: 20}}}\n"
+        "  - {name: base, type: disk, center: [0, 0, 0], normal: [0, 0, 1], radius: 1.5, patches: [4, 2],\n"
+        "     reflectance: [0.5, 0.5, 0.5], transform: {rotate_deg: {axis: [1, 0, 0], angle: 20}}}\n",
+        "dome.yaml");
+    const FormFactors ff = adaptive(scene, 1e-10);
+    EXPECT_LE(max_row_error(ff), 1e-8);
+    EXPECT_NEAR(surface_factor(scene, ff, 1, 0), 1.0, 1e-8);
+    EXPECT_NEAR(surface_factor(scene, ff, 0, 1), 0.5, 1e-8);
+    EXPECT_NEAR(surface_factor(scene, ff, 0, 0), 0.5, 1e-8);
+    double dome_area = 0.0;
+    for (int i = 0; i < 18; ++i) dome_area += ff.area[i];
+    EXPECT_NEAR(dome_area, 2 * kPi * 1.5 * 1.5, 1e-12);
+}
+
 TEST(CurvedSurfaces, ATransformOfTheWholeSceneLeavesTheFactors) {
     const std::string xf =
         ", transform: {scale: 0.3, rotate_deg: {axis: [1, 2, 3], angle: 40}, translate: [5, -1, 2]}";

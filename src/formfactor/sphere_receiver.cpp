@@ -57,7 +57,7 @@ double add_tangencies(const SceneGeometry& g, int i, int j, const SphereReceiver
     edges.center = c;
     edges.radius = R;
     edges.axes = how.axes;
-    add_patch_cuts(&edges, pj.s0, pj.s1, pj.t0, pj.t1);
+    add_patch_cuts(&edges, g.surface(pj.surface), pj.s0, pj.s1, pj.t0, pj.t1);
     for (const HalfSpace& h : edges.cuts) {
         const Vec3 u = glm::normalize(h.normal);
         const double cos_g = (h.offset / glm::length(h.normal) - glm::dot(u, c)) / R;
@@ -112,7 +112,9 @@ struct Piece {
 };
 std::vector<Piece> receiver_pieces(const Surface& sj, const Patch& pj, const SphereReceiver& how) {
     std::vector<Piece> pieces;
-    const int n = std::max(1, static_cast<int>(std::ceil(4.0 * (pj.s1 - pj.s0) - 1e-9)));
+    // Pieces of at most a quarter turn of azimuth.
+    const double span = sj.sphere_angles(pj.s1, pj.t0).first - sj.sphere_angles(pj.s0, pj.t0).first;
+    const int n = std::max(1, static_cast<int>(std::ceil(span / (0.5 * kPi) - 1e-9)));
     for (int k = 0; k < n; ++k) {
         const double s0 = pj.s0 + (pj.s1 - pj.s0) * k / n, s1 = pj.s0 + (pj.s1 - pj.s0) * (k + 1) / n;
         Piece p;
@@ -120,7 +122,7 @@ std::vector<Piece> receiver_pieces(const Surface& sj, const Patch& pj, const Sph
         p.region.radius = how.radius;
         p.region.front = how.inward ? -1.0 : 1.0;
         p.region.axes = how.axes;
-        add_patch_cuts(&p.region, s0, s1, pj.t0, pj.t1);
+        add_patch_cuts(&p.region, sj, s0, s1, pj.t0, pj.t1);
         p.away = how.center -
                  how.radius * glm::normalize(sj.point(0.5 * (s0 + s1), 0.5 * (pj.t0 + pj.t1)) - how.center);
         pieces.push_back(std::move(p));
@@ -155,12 +157,12 @@ std::optional<Estimate> nested_spheres(const SceneGeometry& g, int i, int j, con
     auto whole_inward = [&](int k) {
         const Patch& p = g.patch(k);
         const Surface& s = g.surface(p.surface);
-        return s.sphere() && s.sees_itself() && p.s0 == 0.0 && p.s1 == 1.0 && p.t0 == 0.0 && p.t1 == 1.0;
+        return s.whole_sphere() && s.sees_itself() && p.s0 == 0.0 && p.s1 == 1.0 && p.t0 == 0.0 && p.t1 == 1.0;
     };
     auto inside = [&](int inner_surface, const BoundingSphere& outer) {
         const Surface& s = g.surface(inner_surface);
         const auto b = s.sphere();
-        return b && !s.sees_itself() &&
+        return b && s.whole_sphere() && !s.sees_itself() &&
                glm::length(b->center - outer.center) + b->radius < outer.radius * (1.0 - 1e-12);
     };
     Estimate e;

@@ -92,11 +92,15 @@ bool boundary(const SphericalRegion& r, std::vector<Circle>* circles, std::vecto
 
 }  // namespace
 
-void add_patch_cuts(SphericalRegion* r, double s0, double s1, double t0, double t1) {
+void add_patch_cuts(SphericalRegion* r, const Surface& s, double s0, double s1, double t0, double t1) {
+    const auto [phi0, theta_max] = s.sphere_angles(s0, t0);
+    const auto [phi1, theta_min] = s.sphere_angles(s1, t1);
+    add_patch_cuts(r, phi0, phi1, theta_min, theta_max);
+}
+
+void add_patch_cuts(SphericalRegion* r, double phi0, double phi1, double theta_min, double theta_max) {
     const Vec3& c = r->center;
     const double R = r->radius;
-    const double phi0 = 2 * kPi * s0, phi1 = 2 * kPi * s1;
-    const double theta_min = kPi * (1.0 - t1), theta_max = kPi * (1.0 - t0);
     const Vec3 x = r->axes[0], y = r->axes[1], z = r->axes[2];
     const double cz = glm::dot(z, c);
     r->cuts.push_back({z, cz + R * std::cos(theta_max)});

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "formfactor/circle_arc.h"
+#include "surfaces/surface.h"
 #include "util/math.h"
 
 namespace radiosa {
@@ -30,10 +31,13 @@ struct SphericalRegion {
     std::vector<HalfSpace> cuts;
 };
 
-// Adds the cuts of the parameter rectangle [s0, s1] x [t0, t1] of a sphere (azimuth 2 pi s,
-// polar angle pi (1 - t) from +z, surfaces/sphere.h), about the region's axes. The azimuth span 2 pi (s1 -
+// Adds the cuts of the latitude-longitude rectangle of azimuths [phi0, phi1] and polar angles
+// [theta_min, theta_max] (from local +z) about the region's axes. The azimuth span 2 pi (s1 -
 // s0) must be at most pi / 2 (split wider patches).
-void add_patch_cuts(SphericalRegion* region, double s0, double s1, double t0, double t1);
+void add_patch_cuts(SphericalRegion* region, double phi0, double phi1, double theta_min, double theta_max);
+// The same for the parameter rectangle [s0, s1] x [t0, t1] of spherical surface s
+// (Surface::sphere_angles).
+void add_patch_cuts(SphericalRegion* region, const Surface& s, double s0, double s1, double t0, double t1);
 
 // F(dx -> region) for the point x with unit normal n (see above for when it holds), to the
 // absolute tolerance `tol` (or the rounding level, whichever is larger).

@@ -13,7 +13,7 @@ SphericalRegion patch(const Vec3& c, double R, double front, double s0, double s
     r.center = c;
     r.radius = R;
     r.front = front;
-    add_patch_cuts(&r, s0, s1, t0, t1);
+    add_patch_cuts(&r, 2 * kPi * s0, 2 * kPi * s1, kPi * (1 - t1), kPi * (1 - t0));
     return r;
 }
 

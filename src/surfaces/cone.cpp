@@ -150,6 +150,16 @@ double FrustumSurface::max_distance_from_line(const Vec3& p, const Vec3& u, doub
     return std::max(r(t0), r(t1));
 }
 
+double FrustumSurface::max_distance_from_point(const Vec3& p, double s0, double s1, double t0,
+                                               double t1) const {
+    const Vec3 q = p - m_base;
+    const double h = glm::dot(q, m_frame.axis);
+    if (glm::length(q - h * m_frame.axis) > 1e-14 * std::max(m_r0, m_r1))
+        return Surface::max_distance_from_point(p, s0, s1, t0, t1);
+    // The squared distance (t L - h)^2 + r(t)^2 is convex in t.
+    return std::max(std::hypot(t0 * m_length - h, r(t0)), std::hypot(t1 * m_length - h, r(t1)));
+}
+
 bool FrustumSurface::faces_ball(double s0, double s1, double, double, const BoundingSphere& b,
                                 bool back) const {
     if (m_r0 != m_r1 || (m_orientation < 0.0) != back) return false;

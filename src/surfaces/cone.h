@@ -36,6 +36,8 @@ public:
     // Exact about the surface's own axis (the rectangle's larger radius).
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override;
+    // Exact when p is on the axis: the distance is largest on a rim.
+    double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const override;
     // Cylinders only, convex side: outside every patch point's tangent plane.
     bool faces_ball(double s0, double s1, double t0, double t1, const BoundingSphere& b,
                     bool back) const override;

@@ -107,6 +107,14 @@ double DiskSurface::max_distance_from_line(const Vec3& p, const Vec3& u, double 
     return rho(t1);
 }
 
+double DiskSurface::max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const {
+    const Vec3 q = p - m_center;
+    const double h = glm::dot(q, m_frame.axis);
+    if (glm::length(q - h * m_frame.axis) > 1e-14 * m_radius)
+        return Surface::max_distance_from_point(p, s0, s1, t0, t1);
+    return std::hypot(h, rho(t1));
+}
+
 bool DiskSurface::faces_ball(double, double, double, double, const BoundingSphere& b, bool back) const {
     const double d = glm::dot(m_frame.axis, b.center - m_center);
     return (back ? -d : d) - b.radius >= -1e-12 * m_radius;

@@ -33,6 +33,8 @@ public:
     // Exact when the line is the disk's own axis (the rectangle's outer radius).
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override;
+    // Exact when p is on the disk's axis.
+    double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const override;
     bool faces_ball(double s0, double s1, double t0, double t1, const BoundingSphere& b,
                     bool back) const override;
     bool wraps_in_s() const override { return m_angles.full(); }

@@ -33,6 +33,10 @@ public:
     bool patches_are_polygons() const override { return m_inner->patches_are_polygons(); }
     std::optional<BoundingSphere> sphere() const override;
     Mat3 sphere_axes() const override { return m_xf.rotate * m_inner->sphere_axes(); }
+    std::pair<double, double> sphere_angles(double s, double t) const override {
+        return m_inner->sphere_angles(s, t);
+    }
+    bool whole_sphere() const override { return m_inner->whole_sphere(); }
     bool chords_never_cross() const override { return m_inner->chords_never_cross(); }
     bool front_segments_escape() const override {
         return m_back ? m_inner->back_segments_escape() : m_inner->front_segments_escape();
@@ -54,6 +58,11 @@ public:
         const Mat3 inv = glm::transpose(m_xf.rotate);
         return m_xf.scale * m_inner->max_distance_from_line(inv * (p - m_xf.translate) / m_xf.scale, inv * u,
                                                             s0, s1, t0, t1);
+    }
+    double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const override {
+        const Mat3 inv = glm::transpose(m_xf.rotate);
+        return m_xf.scale *
+               m_inner->max_distance_from_point(inv * (p - m_xf.translate) / m_xf.scale, s0, s1, t0, t1);
     }
     bool faces_ball(double s0, double s1, double t0, double t1, const BoundingSphere& b,
                     bool back) const override {

@@ -115,6 +115,11 @@ double QuadSurface::max_distance_from_line(const Vec3& p, const Vec3& u, double 
     return d;
 }
 
+double QuadSurface::max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const {
+    return std::max({glm::length(point(s0, t0) - p), glm::length(point(s1, t0) - p),
+                     glm::length(point(s1, t1) - p), glm::length(point(s0, t1) - p)});
+}
+
 void QuadSurface::write_key(ByteWriter& w) const {
     for (const Vec3& c : m_corners)
         for (int k = 0; k < 3; ++k) w.f64(c[k]);

@@ -30,6 +30,7 @@ public:
     // Exact: the distance from a line is convex, so its largest value is at a corner.
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override;
+    double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const override;
     void write_key(ByteWriter& w) const override;
     const std::array<Vec3, 4>& corners() const { return m_corners; }
     // Inverse of the map for a point on the plane; nullopt when outside [0,1]^2.

@@ -151,6 +151,24 @@ TEST(Cone, FrustumAndApexMatchClosedForms) {
     EXPECT_NEAR(glm::length(apex.point(0.4, 1.0) - Vec3(1, 1, 0)), 0.0, 1e-15);
 }
 
+TEST(Sphere, PartialRangesMatchClosedForms) {
+    // A zone between polar angles 30 and 100 degrees over a 200-degree lune, and a cap.
+    const SphereSurface zone(Vec3(0.2, 0, -1), 1.5, false, degrees(-30, 170), deg_to_rad(30),
+                             deg_to_rad(100));
+    check_surface(zone);
+    EXPECT_NEAR(zone.area(0, 1, 0, 1),
+                1.5 * 1.5 * deg_to_rad(200) * (std::cos(deg_to_rad(30)) - std::cos(deg_to_rad(100))), 1e-13);
+    EXPECT_FALSE(zone.wraps_in_s() || zone.pole_at_t0() || zone.pole_at_t1() || zone.whole_sphere());
+    const SphereSurface dome(Vec3(0), 2.0, true, AngleRange{}, 0.0, 0.5 * kPi);
+    check_surface(dome);
+    EXPECT_NEAR(dome.area(0, 1, 0, 1), 8 * kPi, 1e-13);
+    EXPECT_TRUE(dome.pole_at_t1());
+    EXPECT_FALSE(dome.pole_at_t0());
+    // Below the equator there is no dome: a ray from inside going down misses it.
+    EXPECT_FALSE(dome.intersect(Ray{Vec3(0), Vec3(0.1, 0, -1)}, 0, 10, HitSide::Any));
+    EXPECT_TRUE(dome.intersect(Ray{Vec3(0), Vec3(0.1, 0, 1)}, 0, 10, HitSide::FrontOnly));
+}
+
 TEST(Placed, TransformMapsEveryQueryExactly) {
     auto sphere = std::make_shared<SphereSurface>(Vec3(0.5, 0, 0), 1.0, false);
     Similarity xf;

@@ -8,23 +8,25 @@
 
 namespace radiosa {
 
-SphereSurface::SphereSurface(const Vec3& center, double radius, bool inward)
-    : m_center(center), m_radius(radius) {
+SphereSurface::SphereSurface(const Vec3& center, double radius, bool inward, const AngleRange& angles,
+                             double theta_top, double theta_bottom)
+    : m_center(center), m_radius(radius), m_angles(angles), m_top(theta_top), m_bottom(theta_bottom) {
     m_orientation = inward ? -1.0 : 1.0;
 }
 
 Vec3 SphereSurface::point(double s, double t) const {
-    const double phi = 2.0 * kPi * s, theta = kPi * (1.0 - t);
-    const double st = std::sin(theta);
-    return m_center + m_radius * Vec3(st * std::cos(phi), st * std::sin(phi), std::cos(theta));
+    const double phi = m_angles.at(s), th = theta(t);
+    const double st = std::sin(th);
+    return m_center + m_radius * Vec3(st * std::cos(phi), st * std::sin(phi), std::cos(th));
 }
 
 void SphereSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
-    // dP/ds x dP/dt = 2 pi^2 R^2 sin(theta) r_hat: outward, vanishing at the poles.
-    const double phi = 2.0 * kPi * s, theta = kPi * (1.0 - t);
-    const double sp = std::sin(phi), cp = std::cos(phi), st = std::sin(theta), ct = std::cos(theta);
-    *dPds = (2.0 * kPi * m_radius) * Vec3(-st * sp, st * cp, 0.0);
-    *dPdt = (-kPi * m_radius) * Vec3(ct * cp, ct * sp, -st);
+    // dP/ds x dP/dt = span (theta_bottom - theta_top) R^2 sin(theta) r_hat: outward, vanishing at
+    // the poles.
+    const double phi = m_angles.at(s), th = theta(t);
+    const double sp = std::sin(phi), cp = std::cos(phi), st = std::sin(th), ct = std::cos(th);
+    *dPds = (m_angles.span * m_radius) * Vec3(-st * sp, st * cp, 0.0);
+    *dPdt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
 }
 
 std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min, double t_max,
@@ -51,20 +53,21 @@ std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min,
         const bool front = m_orientation * glm::dot(out, ray.dir) < 0.0;
         if (side == HitSide::FrontOnly && !front) continue;
         const Vec3 u = out / m_radius;
-        double phi = std::atan2(u.y, u.x);
-        if (phi < 0.0) phi += 2.0 * kPi;
-        const double theta = std::acos(std::clamp(u.z, -1.0, 1.0));
-        const double s = std::clamp(phi / (2.0 * kPi), 0.0, 1.0);
-        const double t = std::clamp(1.0 - theta / kPi, 0.0, 1.0);
-        return SurfaceHit{dist, s, t, front};
+        const auto s = m_angles.param(std::atan2(u.y, u.x));
+        if (!s) continue;
+        const double th = std::acos(std::clamp(u.z, -1.0, 1.0));
+        const double t = (m_bottom - th) / (m_bottom - m_top);
+        constexpr double kEdge = 1e-12;
+        if (t < -kEdge || t > 1.0 + kEdge) continue;
+        return SurfaceHit{dist, *s, std::clamp(t, 0.0, 1.0), front};
     }
     return std::nullopt;
 }
 
 double SphereSurface::area(double s0, double s1, double t0, double t1) const {
-    // R^2 (phi1 - phi0)(cos theta(t1) - cos theta(t0)), theta = pi (1 - t).
-    const double dphi = 2.0 * kPi * (s1 - s0);
-    return m_radius * m_radius * dphi * (std::cos(kPi * (1.0 - t1)) - std::cos(kPi * (1.0 - t0)));
+    // R^2 (phi1 - phi0)(cos theta(t1) - cos theta(t0)).
+    const double dphi = m_angles.span * (s1 - s0);
+    return m_radius * m_radius * dphi * (std::cos(theta(t1)) - std::cos(theta(t0)));
 }
 
 std::pair<double, double> SphereSurface::linear_range(const Vec3& a, double s0, double s1, double t0,
@@ -72,8 +75,8 @@ std::pair<double, double> SphereSurface::linear_range(const Vec3& a, double s0, 
     // a . (P - c) / R = sin(theta) A(phi) + a_z cos(theta), A(phi) = a_x cos(phi) + a_y sin(phi),
     // with sin(theta) >= 0: for each theta the extremes take A's extremes over the azimuths.
     const double rho = std::hypot(a.x, a.y);
-    const auto [amin, amax] = cosine_range(rho, std::atan2(a.y, a.x), 2.0 * kPi * s0, 2.0 * kPi * s1);
-    const double th0 = kPi * (1.0 - t1), th1 = kPi * (1.0 - t0);
+    const auto [amin, amax] = cosine_range(rho, std::atan2(a.y, a.x), m_angles.at(s0), m_angles.at(s1));
+    const double th0 = theta(t1), th1 = theta(t0);
     // g(theta) = A sin(theta) + a_z cos(theta) = |(A, a_z)| cos(theta - atan2(A, a_z)).
     const double lo = cosine_range(std::hypot(amin, a.z), std::atan2(amin, a.z), th0, th1).first;
     const double hi = cosine_range(std::hypot(amax, a.z), std::atan2(amax, a.z), th0, th1).second;
@@ -91,18 +94,42 @@ void SphereSurface::write_key(ByteWriter& w) const {
     for (int k = 0; k < 3; ++k) w.f64(m_center[k]);
     w.f64(m_radius);
     w.u8(m_orientation < 0.0 ? 1 : 0);
+    if (!(whole_sphere() && m_angles.phi0 == 0.0)) {  // whole spheres keep the keys they always had
+        w.u8(0x50);
+        w.f64(m_angles.phi0);
+        w.f64(m_angles.span);
+        w.f64(m_top);
+        w.f64(m_bottom);
+    }
 }
 
 namespace {
 
 // center: [x, y, z]; radius > 0; facing: outward (default) | inward (the concave side is lit
-// and visible: a dome or a room). Parametrised by azimuth 2 pi s around +z from +x and polar
-// angle pi (1 - t) from +z (t = 0 the south pole, t = 1 the north pole).
+// and visible: a dome or a room); angles_deg: an azimuth range about +z from +x (default
+// [0, 360]); polar_deg: [from, to] polar angles from +z, 0 <= from < to <= 180 (default [0, 180]).
+// Parametrised by azimuth over the range and polar angle falling from `to` at t = 0 to `from` at
+// t = 1 (whole spheres: t = 0 the south pole, t = 1 the north pole).
 std::shared_ptr<const Surface> read_sphere(YamlMap& m, const std::string&) {
     const Vec3 center = m.vec3("center");
     const double radius = read_length(m, "radius");
     const bool inward = read_facing_inward(m);
-    return std::make_shared<SphereSurface>(center, radius, inward);
+    const AngleRange angles = read_angles_deg(m);
+    double top = 0.0, bottom = kPi;
+    if (const auto polar = m.optional("polar_deg")) {
+        if (!polar->IsSequence() || polar->size() != 2)
+            throw Error(loc_of(*polar, m.file()),
+                        "polar_deg must be a list of 2 numbers [from, to] in degrees");
+        const double p0 = yaml_number((*polar)[0], m.file(), "polar_deg[0]");
+        const double p1 = yaml_number((*polar)[1], m.file(), "polar_deg[1]");
+        if (!(p0 >= 0.0 && p0 < p1 && p1 <= 180.0))
+            throw Error(loc_of(*polar, m.file()), "polar_deg [from, to] needs 0 <= from < to <= 180, got [" +
+                                                      (*polar)[0].Scalar() + ", " + (*polar)[1].Scalar() +
+                                                      "]");
+        top = p0 == 0.0 ? 0.0 : deg_to_rad(p0);
+        bottom = p1 == 180.0 ? kPi : deg_to_rad(p1);
+    }
+    return std::make_shared<SphereSurface>(center, radius, inward, angles, top, bottom);
 }
 
 }  // namespace
@@ -111,14 +138,22 @@ extern const SurfaceType kSphereType;
 const SurfaceType kSphereType = {
     .name = "sphere",
     .key_id = 1,
-    .keys = "center, radius, facing",
+    .keys = "center, radius, facing, angles_deg, polar_deg",
     .read = read_sphere,
-    .example = {{"center", "[0, 0, 0]"}, {"radius", "1"}, {"facing", "outward"}},
+    .example = {{"center", "[0, 0, 0]"},
+                {"radius", "1"},
+                {"facing", "outward"},
+                {"angles_deg", "[0, 360]"},
+                {"polar_deg", "[0, 180]"}},
     .variants = {{"center", "[0.5, 0, 0]"},
                  {"center", "[0, 0.5, 0]"},
                  {"center", "[0, 0, 0.5]"},
                  {"radius", "1.5"},
-                 {"facing", "inward"}},
+                 {"facing", "inward"},
+                 {"angles_deg", "[0, 180]"},
+                 {"angles_deg", "[30, 390]"},
+                 {"polar_deg", "[0, 90]"},
+                 {"polar_deg", "[10, 180]"}},
 };
 
 }  // namespace radiosa

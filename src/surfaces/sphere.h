@@ -1,13 +1,17 @@
 #pragma once
-// The `sphere` surface type: a whole sphere, facing outward or inward.
+// The `sphere` surface type: a sphere or a part of one (caps, hemispheres, zones, lunes), facing
+// outward or inward.
+#include "surfaces/revolution.h"
 #include "surfaces/surface.h"
 
 namespace radiosa {
 
-// Sphere: azimuth 2 pi s, polar angle pi (1 - t) from +z.
+// Sphere: azimuth phi0 + span s about +z, polar angle from +z falling linearly from theta_bottom
+// at t = 0 to theta_top at t = 1 (a whole sphere: azimuth 2 pi s, polar angle pi (1 - t)).
 class SphereSurface final : public Surface {
 public:
-    SphereSurface(const Vec3& center, double radius, bool inward);
+    SphereSurface(const Vec3& center, double radius, bool inward, const AngleRange& angles = AngleRange{},
+                  double theta_top = 0.0, double theta_bottom = kPi);
     Vec3 point(double s, double t) const override;
     void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
     std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
@@ -23,17 +27,28 @@ public:
     bool sees_itself() const override { return m_orientation < 0.0; }
     bool back_segments_escape() const override { return m_orientation < 0.0; }
     bool back_sees_itself() const override { return m_orientation > 0.0; }
+    double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const override {
+        if (glm::length(p - m_center) <= 1e-14 * m_radius) return m_radius;
+        return Surface::max_distance_from_point(p, s0, s1, t0, t1);
+    }
     std::optional<ConvexSolid> convex_solid() const override {
         return ConvexSolid{false, m_center, Vec3(0, 0, 1), m_radius};
     }
-    bool wraps_in_s() const override { return true; }
-    bool pole_at_t0() const override { return true; }
-    bool pole_at_t1() const override { return true; }
+    std::pair<double, double> sphere_angles(double s, double t) const override {
+        return {m_angles.at(s), theta(t)};
+    }
+    bool whole_sphere() const override { return m_angles.full() && m_top == 0.0 && m_bottom == kPi; }
+    bool wraps_in_s() const override { return m_angles.full(); }
+    bool pole_at_t0() const override { return m_bottom == kPi; }
+    bool pole_at_t1() const override { return m_top == 0.0; }
     void write_key(ByteWriter& w) const override;
 
 private:
+    double theta(double t) const { return (m_bottom - m_top) * (1.0 - t) + m_top; }
     Vec3 m_center;
     double m_radius;
+    AngleRange m_angles;
+    double m_top, m_bottom;  // polar angles of t = 1 and t = 0
 };
 
 }  // namespace radiosa

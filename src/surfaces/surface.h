@@ -88,6 +88,12 @@ public:
     // A spherical surface's axes (columns: local x, y, z; its parameter poles lie on local +-z
     // and azimuth 0 on local +x): the identity unless a transform rotated it.
     virtual Mat3 sphere_axes() const { return Mat3(1.0); }
+    // A spherical surface's azimuth and polar angle (about sphere_axes, from local +z) at (s, t).
+    virtual std::pair<double, double> sphere_angles(double s, double t) const {
+        return {2.0 * kPi * s, kPi * (1.0 - t)};
+    }
+    // True for a whole sphere (every azimuth, pole to pole).
+    virtual bool whole_sphere() const { return false; }
 
     // True when a chord between two of its points never crosses the surface elsewhere
     // (planes, spheres): then it can be left out of the occlusion test for its own pairs.
@@ -115,6 +121,13 @@ public:
         const BoundingSphere b = bound(s0, s1, t0, t1);
         const Vec3 q = b.center - p;
         return glm::length(q - glm::dot(q, u) * u) + b.radius;
+    }
+    // The largest distance of a point of the parameter rectangle from the point p: exact where p
+    // is on the surface's own axis (its centre, for a sphere) and for polygon patches; this
+    // default, from bound(), may be larger but never smaller.
+    virtual double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const {
+        const BoundingSphere b = bound(s0, s1, t0, t1);
+        return glm::length(b.center - p) + b.radius;
     }
     // True when every point of the ball lies on the convex side's front (the back, if `back`):
     // in front of the tangent plane of every point of the parameter rectangle, with no part of
