@@ -157,7 +157,8 @@ std::optional<Estimate> nested_spheres(const SceneGeometry& g, int i, int j, con
     auto whole_inward = [&](int k) {
         const Patch& p = g.patch(k);
         const Surface& s = g.surface(p.surface);
-        return s.whole_sphere() && s.sees_itself() && p.s0 == 0.0 && p.s1 == 1.0 && p.t0 == 0.0 && p.t1 == 1.0;
+        return s.whole_sphere() && s.sees_itself() && p.s0 == 0.0 && p.s1 == 1.0 && p.t0 == 0.0 &&
+               p.t1 == 1.0;
     };
     auto inside = [&](int inner_surface, const BoundingSphere& outer) {
         const Surface& s = g.surface(inner_surface);
