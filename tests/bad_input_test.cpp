@@ -75,7 +75,7 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
         {"unknown surface type",
          std::string(
              "surfaces:\n  - name: a\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-         "@:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone)"},
+         "@:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone, sensor)"},
         {"wrong type",
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: many\n    reflectance: [0.5, 0.5, 0.5]\n",

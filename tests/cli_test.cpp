@@ -189,3 +189,59 @@ TEST(Cli, SceneWithoutEmissionRendersBlackWithoutASolve) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+// A sensor anywhere inside a closed box whose walls all emit E and reflect rho sees the
+// furnace's radiosity E / (1 - rho) from every direction: its irradiance is that, whatever its
+// place and normal, and its form factors sum to 1.
+TEST(Cli, SensorInAFurnaceReadsTheRadiosity) {
+    const fs::path d = fresh_dir("radiosa_cli_sensor");
+    const char* faces[6] = {"[[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1]]",
+                            "[[-1, -1, 1], [-1, 1, 1], [1, 1, 1], [1, -1, 1]]",
+                            "[[-1, -1, -1], [-1, -1, 1], [1, -1, 1], [1, -1, -1]]",
+                            "[[-1, 1, -1], [1, 1, -1], [1, 1, 1], [-1, 1, 1]]",
+                            "[[-1, -1, -1], [-1, 1, -1], [-1, 1, 1], [-1, -1, 1]]",
+                            "[[1, -1, -1], [1, -1, 1], [1, 1, 1], [1, 1, -1]]"};
+    std::string scene = "surfaces:\n";
+    for (int k = 0; k < 6; ++k)
+        scene += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
+                 ", patches: [2, 2], reflectance: [0.5, 0.25, 0.75], emission: [1, 1, 1]}\n";
+    scene += "  - {name: meter, type: sensor, position: [0.1, -0.2, 0.3], normal: [1, 1, 1]}\n";
+    std::ofstream(d / "box.yaml") << scene;
+    std::ofstream(d / "cam.yaml") << "camera: {distance: 0.5, theta_deg: 0, phi_deg: 90, fov_deg: 60}\n";
+    const CliRun r = run({"render", (d / "box.yaml").string(), "--camera", (d / "cam.yaml").string(), "-o",
+                          (d / "i.png").string(), "--report", (d / "r.json").string(), "--width", "16",
+                          "--height", "16", "--samples", "1"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("sensor meter: irradiance (2, 1.33333, 4)"), std::string::npos) << r.out;
+    std::ifstream in(d / "r.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_EQ(j["sensors"].size(), 1u);
+    EXPECT_EQ(j["sensors"][0]["name"], "meter");
+    EXPECT_NEAR(j["sensors"][0]["irradiance"][0].get<double>(), 2.0, 1e-6);
+    EXPECT_NEAR(j["sensors"][0]["irradiance"][1].get<double>(), 4.0 / 3.0, 1e-6);
+    EXPECT_NEAR(j["sensors"][0]["irradiance"][2].get<double>(), 4.0, 1e-6);
+    EXPECT_EQ(j["patches"], 24);  // the sensor is no patch
+
+    const CliRun f = run({"formfactors", (d / "box.yaml").string(), "--sensors", (d / "s.csv").string()});
+    ASSERT_EQ(f.code, 0) << f.err;
+    std::ifstream csv(d / "s.csv");
+    std::string header, row;
+    std::getline(csv, header);
+    std::getline(csv, row);
+    EXPECT_EQ(header.substr(0, 20), "sensor,\"f0[0,0]\",\"f0");
+    EXPECT_EQ(row.substr(0, 8), "\"meter\",");
+    double sum = 0.0;
+    std::stringstream cells(row.substr(8));
+    for (std::string c; std::getline(cells, c, ',');) sum += std::stod(c);
+    EXPECT_NEAR(sum, 1.0, 1e-9);
+    // A scene without sensors says so and writes nothing.
+    const CliRun none = run({"formfactors", kScene, "--sensors", (d / "none.csv").string()});
+    EXPECT_EQ(none.code, 1);
+    EXPECT_NE(none.err.find("the scene has no sensors"), std::string::npos) << none.err;
+    EXPECT_FALSE(fs::exists(d / "none.csv"));
+    fs::remove_all(d);
+}
+
+}  // namespace radiosa

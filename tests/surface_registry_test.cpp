@@ -81,7 +81,7 @@ TEST(SurfaceRegistry, UnknownTypeNamesTheKnownOnes) {
     } catch (const Error& e) {
         EXPECT_STREQ(
             e.what(),
-            "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere, disk, cylinder, cone)");
+            "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere, disk, cylinder, cone, sensor)");
     }
 }
 

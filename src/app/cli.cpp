@@ -116,6 +116,9 @@ void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool*
 
 void add_formfactors_options(CLI::App* cmd, FormFactorsJob* job, bool* quiet) {
     cmd->add_option("scene", job->scene_path, "Scene file (YAML)")->required();
+    cmd->add_option(
+        "--sensors", job->sensors_path,
+        "Write the scene's sensors' form factors: .csv, a row per sensor, F(dA -> patch) per column");
     cmd->add_option("--matrix,-m", job->matrix_path,
                     "Export the matrix: .csv (with header and patch table) or .npy (numpy.load; "
                     "patch table beside it as <stem>.patches.csv)");

@@ -13,6 +13,7 @@ struct FormFactorsJob {
     std::string scene_path;
     std::optional<std::string> matrix_path;  // .csv or .npy
     std::optional<std::string> report_path;
+    std::optional<std::string> sensors_path;  // .csv: F(dA -> patch) per sensor
     FormFactorRequest form_factors;
     int threads = 0;
     WarningSink warn = [](const std::string&) {};

@@ -100,6 +100,13 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
                                                        "patches named, or run without --strict");
         warn(w + "; the matrix is used as it is (--strict refuses it)");
     }
+    clock = Stopwatch();
+    const double sensor_tol =
+        p.options.method == FormFactorMethod::Adaptive ? p.options.tolerance : kDefaultFormFactorTolerance;
+    for (const SensorDesc& d : p.scene.sensors)
+        p.sensors.push_back(
+            sensor_factors(p.geometry, d.position, d.normal, sensor_tol, p.options.visibility));
+    p.sensors_s = clock.seconds();
     return p;
 }
 

@@ -11,6 +11,7 @@
 #include "app/form_factor_request.h"
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
+#include "formfactor/sensor.h"
 #include "geometry/intersections.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -38,8 +39,10 @@ struct Prepared {
         int rounds = 0;  // form-factor computations it took (1: the first tolerance sufficed)
     };
     std::optional<SolveTarget> solve_target;
-    double load_s = 0.0;          // reading the scene and building the geometry
-    double form_factors_s = 0.0;  // computing or loading the matrix
+    std::vector<SensorFactors> sensors;  // per scene sensor, in order: F(dA -> every patch)
+    double sensors_s = 0.0;              // computing them
+    double load_s = 0.0;                 // reading the scene and building the geometry
+    double form_factors_s = 0.0;         // computing or loading the matrix
 };
 
 // Reads the scene, builds its geometry, then (after `check_inputs`, which a command uses to

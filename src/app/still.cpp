@@ -61,6 +61,14 @@ StillReport run_still(const StillJob& job) {
     clock = Stopwatch();
     const Materials mat = patch_materials(p.scene);
     const std::vector<Rgb> B = solve_still(job, p, mat, &r);
+    for (std::size_t k = 0; k < p.sensors.size(); ++k) {
+        StillReport::SensorReading s{p.scene.sensors[k].name, Rgb(0.0), Rgb(0.0)};
+        for (std::size_t j = 0; j < B.size(); ++j) {
+            s.irradiance += p.sensors[k].F[j] * B[j];
+            s.error += p.sensors[k].error[j] * B[j];
+        }
+        r.sensors.push_back(s);
+    }
     r.times.solve_s = clock.seconds();
 
     clock = Stopwatch();
@@ -95,6 +103,12 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     // Energy balance only means something for a closed scene.
     j["energy_balance_error"] = r.prep.scene.closed ? json(r.solve.energy_balance_error) : json(nullptr);
     j["radiosity_error_bound"] = error_bound_json(r.radiosity_error_bound);
+    json sensors = json::array();
+    for (const auto& s : r.sensors)
+        sensors.push_back({{"name", s.name},
+                           {"irradiance", {s.irradiance.r, s.irradiance.g, s.irradiance.b}},
+                           {"irradiance_error", {s.error.r, s.error.g, s.error.b}}});
+    j["sensors"] = sensors;
     j["left_out"] =
         left_out_json(r.prep.options, r.prep.ff.stats, {r.factorisations, 3, r.channel_solves, 3, r.dark});
     json& solve = j["solve"] = solve_json(job.solver, r.stability, r.solve.residual);
@@ -124,6 +138,10 @@ std::string still_summary(const StillJob& job, const StillReport& r) {
         s += fmt::format("  energy balance |emitted - absorbed| / emitted = {:.2e}\n",
                          r.solve.energy_balance_error);
     s += error_bound_summary(r.radiosity_error_bound);
+    for (const auto& x : r.sensors)
+        s += fmt::format("  sensor {}: irradiance ({:.6g}, {:.6g}, {:.6g}) +- {:.2g}\n", x.name,
+                         x.irradiance.r, x.irradiance.g, x.irradiance.b,
+                         std::max({x.error.r, x.error.g, x.error.b}));
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

@@ -42,6 +42,13 @@ struct StillReport {
     SolveDiagnostics solve;
     // max |B - B*| / max B per channel (solver.h); empty when the form factors carry no estimates
     std::optional<Rgb> radiosity_error_bound;
+    // Per scene sensor: irradiance sum_j F(dA -> j) B_j per channel, and sum_j err_j B_j.
+    struct SensorReading {
+        std::string name;
+        Rgb irradiance{0.0};
+        Rgb error{0.0};
+    };
+    std::vector<SensorReading> sensors;
     StageTimes times;
 };
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "formfactor/form_factor.h"
+#include "formfactor/sensor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 
@@ -226,6 +227,75 @@ TEST(CurvedSurfaces, TwoSidedDiskInABoxCloses) {
     EXPECT_GT(ff.F(0, 7), 0.0);
     EXPECT_EQ(ff.F(0, 6), 0.0);
     EXPECT_EQ(ff.F(6, 7), 0.0);
+}
+
+}  // namespace radiosa
+
+namespace radiosa {
+
+namespace {
+Scene sensor_scene(const std::string& surfaces) {
+    return parse_scene("closed: false\nsurfaces:\n" + surfaces, "s.yaml");
+}
+}  // namespace
+
+TEST(Sensor, BelowACoaxialDiskAndFacingARectangle) {
+    // A disk of radius 0.8 at height 1.5 facing down, split 6 x 3: F = r^2 / (r^2 + h^2).
+    const Scene scene = sensor_scene(
+        "  - {name: lamp, type: disk, center: [0, 0, 1.5], normal: [0, 0, -1], radius: 0.8, patches: [6, 3],"
+        " reflectance: [0, 0, 0]}\n"
+        "  - {name: meter, type: sensor, position: [0, 0, 0], normal: [0, 0, 1]}\n");
+    ASSERT_EQ(scene.sensors.size(), 1u);
+    const SceneGeometry g(scene);
+    const SensorFactors s =
+        sensor_factors(g, scene.sensors[0].position, scene.sensors[0].normal, 1e-10, true);
+    double sum = 0.0;
+    for (double f : s.F) sum += f;
+    EXPECT_NEAR(sum, 0.64 / (0.64 + 2.25), 1e-10);
+    EXPECT_EQ(s.closed_form, 18);
+    // A 2 x 3 rectangle 1.2 above the sensor, one corner straight over it (Howell B-3):
+    // F = 1/(2 pi) [X/sqrt(1+X^2) atan(Y/sqrt(1+X^2)) + Y/sqrt(1+Y^2) atan(X/sqrt(1+Y^2))].
+    const Scene rect = sensor_scene(
+        "  - {name: panel, type: quad, corners: [[0, 0, 1.2], [0, 3, 1.2], [2, 3, 1.2], [2, 0, 1.2]], "
+        "patches: [3, 2],"
+        " reflectance: [0, 0, 0]}\n");
+    const double X = 2 / 1.2, Y = 3 / 1.2;
+    const double exact = (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+                          Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
+                         (2 * kPi);
+    const SensorFactors r = sensor_factors(SceneGeometry(rect), Vec3(0), Vec3(0, 0, 1), 1e-10, true);
+    double rsum = 0.0;
+    for (double f : r.F) rsum += f;
+    EXPECT_NEAR(rsum, exact, 1e-12);
+}
+
+TEST(Sensor, AnOccluderTakesItsConeAway) {
+    // A two-sided plate of radius 0.23 at height 0.5 under the lamp of radius 0.8 at 1.5: the
+    // plate's cone (0.23 / 0.5 < 0.8 / 1.5: it lies inside the lamp's) hides r^2 / (r^2 + h^2)
+    // of it. The hidden pairs take the cubature with every blocker tested; the shadow's edge
+    // crosses the lamp's outer ring off every midline.
+    const Scene scene = sensor_scene(
+        "  - {name: lamp, type: disk, center: [0, 0, 1.5], normal: [0, 0, -1], radius: 0.8, patches: [6, 3],"
+        " reflectance: [0, 0, 0]}\n"
+        "  - {name: plate, type: disk, center: [0, 0, 0.5], normal: [0, 0, -1], radius: 0.23, patches: [1, "
+        "1],"
+        " reflectance: [0, 0, 0], two_sided: true}\n");
+    const SceneGeometry g(scene);
+    const SensorFactors s = sensor_factors(g, Vec3(0), Vec3(0, 0, 1), 1e-8, true);
+    double lamp = 0.0, err = 0.0;
+    for (int j = 0; j < 18; ++j) {
+        lamp += s.F[j];
+        err += s.error[j];
+    }
+    const double exact = 0.64 / (0.64 + 2.25) - 0.0529 / (0.0529 + 0.25);
+    EXPECT_NEAR(lamp, exact, std::max(1e-6, err));
+    EXPECT_NEAR(s.F[18], 0.0529 / 0.3029, 1e-10);  // the plate's underside itself
+    EXPECT_EQ(s.F[19], 0.0);                       // its top faces away
+    // Without visibility the lamp counts whole.
+    const SensorFactors open = sensor_factors(g, Vec3(0), Vec3(0, 0, 1), 1e-8, false);
+    double all = 0.0;
+    for (int j = 0; j < 18; ++j) all += open.F[j];
+    EXPECT_NEAR(all, 0.64 / 2.89, 1e-8);
 }
 
 }  // namespace radiosa

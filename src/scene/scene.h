@@ -36,6 +36,15 @@ struct SurfaceDesc {
     int twin = -1;
 };
 
+// A sensor: a differential element at `position` facing along `normal` (unit) that sees the
+// scene with occlusion but takes no part in the solve and is not drawn (formfactor/sensor.h).
+struct SensorDesc {
+    std::string name;
+    Vec3 position{0.0};
+    Vec3 normal{0.0, 0.0, 1.0};
+    FileLoc loc;
+};
+
 // The scene file's form_factors block; what it does not give, the command line or the
 // defaults decide (formfactor/form_factor.h, resolve_form_factor_options).
 struct FormFactorSettings {
@@ -61,6 +70,7 @@ struct Scene {
     SolveSettings solve;
     FileLoc solve_loc;  // where the solve block is, for messages about it
     std::vector<SurfaceDesc> surfaces;
+    std::vector<SensorDesc> sensors;  // `type: sensor` entries of the surfaces list, in order
 
     int patch_count() const;
     int find_surface(const std::string& name) const;  // -1 when absent

@@ -93,7 +93,7 @@ std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string&
     s.type = find_surface_type(t);
     if (!s.type)
         throw Error(loc_of(type, file),
-                    "unknown surface type '" + t + "' (known: " + surface_type_names() + ")");
+                    "unknown surface type '" + t + "' (known: " + surface_type_names() + ", sensor)");
     read_patches(m, s);
     s.reflectance = read_reflectance(m.required("reflectance"), file);
     if (auto e = m.optional("emission")) s.emission = read_emission(*e, file);
@@ -122,6 +122,28 @@ std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string&
     out.push_back(std::move(s));
     if (two_sided) out.push_back(std::move(back));
     return out;
+}
+
+bool is_sensor(const YAML::Node& node) {
+    return node.IsMap() && node["type"] && node["type"].IsScalar() && node["type"].Scalar() == "sensor";
+}
+
+// {name, type: sensor, position: [x, y, z], normal: [x, y, z] (non-zero, normalised)}.
+SensorDesc read_sensor(const YAML::Node& node, const std::string& file, int index) {
+    YamlMap m(node, file, "surface #" + std::to_string(index + 1));
+    SensorDesc s;
+    s.loc = m.loc();
+    s.name = m.string("name");
+    m.string("type");
+    s.position = m.vec3("position");
+    const YAML::Node nn = m.required("normal");
+    const Vec3 n = yaml_vec3(nn, file, "normal");
+    const double len = glm::length(n);
+    if (!(len > 0.0) || !std::isfinite(len))
+        throw Error(loc_of(nn, file), "normal must be a non-zero vector [x, y, z]");
+    s.normal = n / len;
+    m.reject_unknown_keys("name, type, position, normal");
+    return s;
 }
 
 FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::string& file) {
@@ -186,9 +208,22 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
     if (!list.IsSequence() || list.size() == 0)
         throw Error(loc_of(list, filename), "surfaces must be a non-empty list of surfaces");
     long long total = 0;
-    for (size_t i = 0; i < list.size(); ++i)
+    auto taken = [&](const std::string& name) {
+        if (scene.find_surface(name) >= 0) return true;
+        for (const SensorDesc& d : scene.sensors)
+            if (d.name == name) return true;
+        return false;
+    };
+    for (size_t i = 0; i < list.size(); ++i) {
+        if (is_sensor(list[i])) {
+            SensorDesc d = read_sensor(list[i], filename, static_cast<int>(i));
+            if (taken(d.name))
+                throw Error(d.loc, "surface name '" + d.name + "' is used twice; names must be unique");
+            scene.sensors.push_back(std::move(d));
+            continue;
+        }
         for (SurfaceDesc& s : read_surface(list[i], filename, static_cast<int>(i))) {
-            if (scene.find_surface(s.name) >= 0)
+            if (taken(s.name))
                 throw Error(s.loc, "surface name '" + s.name + "' is used twice; names must be unique" +
                                        (s.name.ends_with(".back") ? " (a two-sided surface's back side is "
                                                                     "named <name>.back)"
@@ -207,6 +242,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
             }
             scene.surfaces.push_back(std::move(s));
         }
+    }
+    if (scene.surfaces.empty())
+        throw Error(loc_of(list, filename), "surfaces must hold at least one surface besides sensors");
     return scene;
 }
 

@@ -217,7 +217,7 @@ TEST(SceneYaml, UnknownSurfaceType) {
     EXPECT_EQ(
         parse_error(
             "surfaces:\n  - name: t\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-        "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone)");
+        "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone, sensor)");
 }
 
 TEST(SceneYaml, MalformedEmptyAndBinaryFiles) {
