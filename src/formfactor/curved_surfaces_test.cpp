@@ -83,8 +83,9 @@ TEST(CurvedSurfaces, CoaxialDisksMatchTheClosedForm) {
             EXPECT_NEAR(surface_factor(scene, ff, 0, 1), exact, std::max(1e-8, tol));
             EXPECT_NEAR(surface_factor(scene, ff, 1, 0), exact * 0.25 / 2.25, std::max(1e-8, tol));
             // Each entry's true error is within its estimate: F_01 of one patch pair.
-            if (std::string(patches) == "[1, 1]")
+            if (std::string(patches) == "[1, 1]") {
                 EXPECT_LE(std::abs(ff.F(0, 1) - exact), err_of(ff, 0, 1) + 1e-15);
+            }
         }
     }
 }
