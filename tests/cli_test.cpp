@@ -236,6 +236,26 @@ TEST(Cli, SensorInAFurnaceReadsTheRadiosity) {
     std::stringstream cells(row.substr(8));
     for (std::string c; std::getline(cells, c, ',');) sum += std::stod(c);
     EXPECT_NEAR(sum, 1.0, 1e-9);
+    // In a sequence, each frame's report reads the radiosity of that frame's lights: every wall
+    // doubles its emission at 1 s.
+    std::string seq =
+        "scene: box.yaml\nfps: 2\nduration_s: 2\nimage: {width: 8, height: 8, samples: 1}\n"
+        "camera:\n  keys:\n    - {time_s: 0, distance: 0.5, theta_deg: 0, phi_deg: 90, fov_deg: 60}\n"
+        "events:\n";
+    for (int k = 0; k < 6; ++k)
+        seq += "  - {time_s: 1, surface: f" + std::to_string(k) + ", emission: [2, 2, 2]}\n";
+    std::ofstream(d / "seq.yaml") << seq;
+    const CliRun q = run({"render", "--sequence", (d / "seq.yaml").string(), "-o", (d / "f%02d.png").string(),
+                          "--report", (d / "q.json").string()});
+    ASSERT_EQ(q.code, 0) << q.err;
+    std::ifstream qin(d / "q.json");
+    const nlohmann::json qj = nlohmann::json::parse(qin);
+    ASSERT_EQ(qj["frames"].size(), 4u);
+    for (int f = 0; f < 4; ++f) {
+        const double e = f < 2 ? 1.0 : 2.0;
+        ASSERT_EQ(qj["frames"][f]["sensors"].size(), 1u);
+        EXPECT_NEAR(qj["frames"][f]["sensors"][0]["irradiance"][2].get<double>(), 4.0 * e, 1e-6) << f;
+    }
     // A scene without sensors says so and writes nothing.
     const CliRun none = run({"formfactors", kScene, "--sensors", (d / "none.csv").string()});
     EXPECT_EQ(none.code, 1);

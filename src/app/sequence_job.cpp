@@ -230,6 +230,12 @@ private:
         m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E);
         m_r->channel_solves += solver.last_channel_solves();
         rec.solve_s += clock.seconds();
+        m_r->sensor_irradiance.resize(m_plan.solutions.size());
+        std::vector<Rgb>& readings = m_r->sensor_irradiance[fp.solution];
+        readings.assign(m_p.sensors.size(), Rgb(0.0));
+        for (std::size_t k = 0; k < m_p.sensors.size(); ++k)
+            for (std::size_t j = 0; j < m_solutions[fp.solution].size(); ++j)
+                readings[k] += m_p.sensors[k].F[j] * m_solutions[fp.solution][j];
         // Diagnostics, not timed as solving.
         const SolveDiagnostics d = diagnose_solution(
             m_p.ff.F, m_p.ff.area, {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
@@ -404,7 +410,14 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                    {"renders", r.renders},
                    {"copies", r.copies}};
     json frames = json::array();
-    for (const FrameRecord& f : r.frames)
+    for (const FrameRecord& f : r.frames) {
+        json sensors = json::array();
+        const auto s = static_cast<std::size_t>(f.plan.solution);
+        if (s < r.sensor_irradiance.size())
+            for (std::size_t k = 0; k < r.sensor_irradiance[s].size(); ++k) {
+                const Rgb& e = r.sensor_irradiance[s][k];
+                sensors.push_back({{"name", r.prep->scene.sensors[k].name}, {"irradiance", {e.r, e.g, e.b}}});
+            }
         frames.push_back({{"frame", f.plan.frame},
                           {"time_s", f.plan.time_s},
                           {"form_factors", f.form_factors},
@@ -414,7 +427,9 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                           {"form_factors_s", f.form_factors_s},
                           {"solve_s", f.solve_s},
                           {"render_s", f.render_s},
-                          {"encode_s", f.encode_s}});
+                          {"encode_s", f.encode_s},
+                          {"sensors", sensors}});
+    }
     j["frames"] = frames;
     j["palette"] = job.palette > 0 ? json{{"colours", r.palette.colours},
                                           {"quantiser", quantiser_name(job.quantiser)},

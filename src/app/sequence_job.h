@@ -61,6 +61,8 @@ struct SequenceReport {
     // form factors carry no estimates.
     std::optional<Rgb> radiosity_error_bound;
     std::vector<FrameRecord> frames;
+    // Per solution of the plan (FramePlan::solution), per scene sensor: its irradiance.
+    std::vector<std::vector<Rgb>> sensor_irradiance;
     struct PaletteResult {
         int colours = 0;
         double psnr_median_cut_db = 0, psnr_popularity_db = 0, seconds = 0;

@@ -312,7 +312,7 @@ TEST(SceneYaml, CurvedTypesAndPlacementNameTheBadValue) {
     EXPECT_EQ(one("type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: 1, facing: sideways"),
               "s.yaml:2:125: facing must be 'outward' or 'inward', got 'sideways'");
     EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, transform: {scale: -2}"),
-              "s.yaml:2:119: transform scale must be > 0 (a uniform scale), got -2");
+              "s.yaml:2:119: transform scale must be a uniform scale in [1e-9, 1e9], got -2");
     EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, transform: {rotate_deg: {axis: [0, 0, 1]}}"),
               "s.yaml:2:124: rotate_deg is missing the required key 'angle'");
     EXPECT_EQ(one("type: sphere, center: [0, 0, 0], radius: 1, transform: {shear: 2}"),

@@ -109,9 +109,9 @@ Similarity read_transform(const YAML::Node& node, const std::string& file) {
     Similarity xf;
     if (auto s = m.optional("scale")) {
         xf.scale = yaml_number(*s, file, "scale");
-        if (!(xf.scale > 0.0))
+        if (!(xf.scale >= 1e-9 && xf.scale <= 1e9))
             throw Error(loc_of(*s, file),
-                        "transform scale must be > 0 (a uniform scale), got " + s->Scalar());
+                        "transform scale must be a uniform scale in [1e-9, 1e9], got " + s->Scalar());
     }
     if (auto r = m.optional("rotate_deg")) {
         YamlMap rm(*r, file, "rotate_deg");
