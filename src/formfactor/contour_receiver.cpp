@@ -53,7 +53,8 @@ namespace {
 // Convex from inside: every point of the surface sees the rest of its solid in front.
 bool convex_from_inside(const Surface& s) { return s.sees_itself() && s.chords_never_cross(); }
 
-// Whether patch p lies in the convex solid whose boundary holds surface k.
+}  // namespace
+
 bool inside_solid(const SceneGeometry& g, const Patch& p, int k) {
     if (p.surface == k) return true;
     const auto solid = g.surface(k).convex_solid();
@@ -65,7 +66,7 @@ bool inside_solid(const SceneGeometry& g, const Patch& p, int k) {
     return g.surface(p.surface).max_distance_from_point(solid->center, p.s0, p.s1, p.t0, p.t1) <= limit;
 }
 
-}  // namespace
+namespace {}  // namespace
 
 std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, int j,
                                                 const std::vector<int>& blockers, bool visibility) {

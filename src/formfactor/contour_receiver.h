@@ -22,6 +22,10 @@ namespace radiosa {
 ContourValue point_to_contour(const Vec3& x, const Vec3& n, const std::vector<ContourPiece>& pieces,
                               double tol);
 
+// Whether patch p lies in the convex solid whose boundary holds surface k (Surface::convex_solid),
+// proven exactly where the built-in types allow; true for k's own patches.
+bool inside_solid(const SceneGeometry& g, const Patch& p, int k);
+
 struct ContourReceiver {
     std::vector<ContourPiece> pieces;  // patch j's boundary
     // A patch of a concave surface toward itself: x lies inside the region, whose image on the

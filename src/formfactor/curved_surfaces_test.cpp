@@ -270,6 +270,21 @@ TEST(Sensor, BelowACoaxialDiskAndFacingARectangle) {
     EXPECT_NEAR(rsum, exact, 1e-12);
 }
 
+TEST(Sensor, UnderADomeSeesAllOfIt) {
+    // A sensor on the base of a hemisphere, facing up, sees nothing but the dome: the factors
+    // sum to 1, each patch by the sphere-region contour (the dome holds the sensor, so it
+    // cannot block its own patches).
+    const Scene scene = sensor_scene(
+        "  - {name: dome, type: sphere, center: [0, 0, 0], radius: 1, facing: inward, polar_deg: [0, 90],"
+        " patches: [6, 3], reflectance: [0, 0, 0]}\n");
+    const SensorFactors s =
+        sensor_factors(SceneGeometry(scene), Vec3(0.2, 0.1, 0.0), Vec3(0, 0, 1), 1e-10, true);
+    double sum = 0.0;
+    for (double f : s.F) sum += f;
+    EXPECT_NEAR(sum, 1.0, 1e-10);
+    EXPECT_EQ(s.closed_form, 18);
+}
+
 TEST(Sensor, AnOccluderTakesItsConeAway) {
     // A two-sided plate of radius 0.23 at height 0.5 under the lamp of radius 0.8 at 1.5: the
     // plate's cone (0.23 / 0.5 < 0.8 / 1.5: it lies inside the lamp's) hides r^2 / (r^2 + h^2)

@@ -17,8 +17,17 @@ namespace radiosa {
 
 namespace {
 
+// Whether x lies strictly inside the convex solid (so the solid's concave side faces it).
+bool strictly_inside(const Vec3& x, const std::optional<ConvexSolid>& solid) {
+    if (!solid) return false;
+    Vec3 q = x - solid->center;
+    if (solid->cylinder) q -= glm::dot(q, solid->axis) * solid->axis;
+    return glm::length(q) < solid->radius;
+}
+
 // Surfaces that might block a segment from x to patch j: the same proofs as between patches
-// (a plane with both on one side, a slab, the bounding balls), with x a patch of size zero.
+// (a plane with both on one side, a slab, the bounding balls, a convex solid holding both),
+// with x a patch of size zero.
 std::vector<int> blockers_of(const SceneGeometry& g, const Vec3& x, const Patch& pj, double eps) {
     std::vector<int> out;
     const Surface& sj = g.surface(pj.surface);
@@ -26,6 +35,9 @@ std::vector<int> blockers_of(const SceneGeometry& g, const Vec3& x, const Patch&
         const Surface& s = g.surface(k);
         if (k == pj.surface && s.front_segments_escape()) continue;
         if (g.twin(k) >= 0 && g.twin(k) == pj.surface && s.back_segments_escape()) continue;
+        if (strictly_inside(x, s.convex_solid()) &&
+            (k == pj.surface || g.twin(k) == pj.surface || inside_solid(g, pj, k)))
+            continue;
         if (k != pj.surface)
             if (const auto pl = s.plane()) {
                 const double dx = pl->signed_distance(x);
@@ -61,14 +73,6 @@ std::array<Vec3, 4> front_polygon(const SceneGeometry& g, const Patch& p) {
     const Vec3 newell = glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2]);
     if (glm::dot(front, newell) < 0.0) std::swap(v[1], v[3]);
     return v;
-}
-
-// Whether x lies strictly inside the convex solid (so the solid's concave side faces it).
-bool strictly_inside(const Vec3& x, const std::optional<ConvexSolid>& solid) {
-    if (!solid) return false;
-    Vec3 q = x - solid->center;
-    if (solid->cylinder) q -= glm::dot(q, solid->axis) * solid->axis;
-    return glm::length(q) < solid->radius;
 }
 
 // F(dA -> j) for an unblocked patch by a contour, when one applies.
