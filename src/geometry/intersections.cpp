@@ -24,7 +24,7 @@ Shape shape_of(const Surface& s) {
     Shape sh;
     if (s.plane() && s.patches_are_polygons())
         sh.polygon = std::array<Vec3, 4>{s.point(0, 0), s.point(1, 0), s.point(1, 1), s.point(0, 1)};
-    else if (s.sphere())
+    else if (s.sphere() && s.whole_sphere())
         sh.sphere = s.sphere();
     return sh;
 }

@@ -54,6 +54,16 @@ TEST(Intersections, SphereThroughAPolygonIsFoundTangentOrInsideIsNot) {
     EXPECT_EQ(count(quad("floor", test::kFloor) + sphere("ball", "[3, 0.5, 0]", 0.3)), 0);
 }
 
+TEST(Intersections, AHemisphereStandingOnAFloorIsNotAnIntersection) {
+    // The whole sphere would cross the floor; its upper half only stands on it. Partial spheres
+    // are not checked as balls (the checks cover quads and whole spheres).
+    const std::string dome =
+        "  - {name: dome, type: sphere, center: [0.5, 0.5, 0], radius: 0.3, polar_deg: [0, 90], "
+        "patches: [4, 2], reflectance: [0, 0, 0]}\n";
+    EXPECT_EQ(count(quad("floor", test::kFloor) + dome), 0);
+    EXPECT_EQ(count(quad("floor", test::kFloor) + sphere("ball", "[0.5, 0.5, 0]", 0.3)), 1);
+}
+
 TEST(Intersections, SpheresThatCrossAreFoundNestedOrTouchingAreNot) {
     EXPECT_EQ(count(sphere("a", "[0, 0, 0]", 1) + sphere("b", "[1.5, 0, 0]", 1)), 1);
     EXPECT_EQ(count(sphere("a", "[0, 0, 0]", 1) + sphere("b", "[2, 0, 0]", 1)), 0);
