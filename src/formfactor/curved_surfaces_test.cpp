@@ -166,7 +166,7 @@ TEST(CurvedSurfaces, ATransformOfTheWholeSceneLeavesTheFactors) {
 
 TEST(CurvedSurfaces, ARotatedSphereKeepsItsPatchesInPlace) {
     // A sphere split 8 x 4 in a box, the whole scene turned 30 degrees about (1, 1, 0): the
-    // sphere receivers' cuts follow the sphere's own axes.
+    // sphere's patches turn with it, and every factor stays.
     auto scene_text = [](const std::string& xf) {
         std::string s = "surfaces:\n";
         const char* faces[6] = {"[[-2, -2, -2], [2, -2, -2], [2, 2, -2], [-2, 2, -2]]",
@@ -273,16 +273,26 @@ TEST(Sensor, BelowACoaxialDiskAndFacingARectangle) {
 TEST(Sensor, UnderADomeSeesAllOfIt) {
     // A sensor on the base of a hemisphere, facing up, sees nothing but the dome: the factors
     // sum to 1, each patch by the sphere-region contour (the dome holds the sensor, so it
-    // cannot block its own patches).
-    const Scene scene = sensor_scene(
+    // cannot block its own patches). Turned 40 degrees about its axis with the sensor, every
+    // patch's factor stays: the cuts follow the sphere's axes.
+    const std::string dome =
         "  - {name: dome, type: sphere, center: [0, 0, 0], radius: 1, facing: inward, polar_deg: [0, 90],"
-        " patches: [6, 3], reflectance: [0, 0, 0]}\n");
-    const SensorFactors s =
-        sensor_factors(SceneGeometry(scene), Vec3(0.2, 0.1, 0.0), Vec3(0, 0, 1), 1e-10, true);
+        " patches: [6, 3], reflectance: [0, 0, 0]";
+    const Scene plain = sensor_scene(dome + "}\n");
+    const Scene turned = sensor_scene(dome + ", transform: {rotate_deg: {axis: [0, 0, 1], angle: 40}}}\n");
+    const Vec3 x(0.2, 0.1, 0.0);
+    const double c = std::cos(deg_to_rad(40)), sn = std::sin(deg_to_rad(40));
+    const SensorFactors a = sensor_factors(SceneGeometry(plain), x, Vec3(0, 0, 1), 1e-10, true);
+    const SensorFactors b = sensor_factors(
+        SceneGeometry(turned), Vec3(c * x.x - sn * x.y, sn * x.x + c * x.y, 0.0), Vec3(0, 0, 1), 1e-10, true);
     double sum = 0.0;
-    for (double f : s.F) sum += f;
+    for (std::size_t j = 0; j < a.F.size(); ++j) {
+        sum += a.F[j];
+        EXPECT_NEAR(a.F[j], b.F[j], 1e-10) << j;
+    }
     EXPECT_NEAR(sum, 1.0, 1e-10);
-    EXPECT_EQ(s.closed_form, 18);
+    EXPECT_EQ(a.closed_form, 18);
+    EXPECT_EQ(b.closed_form, 18);
 }
 
 TEST(Sensor, AnOccluderTakesItsConeAway) {
