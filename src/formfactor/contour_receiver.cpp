@@ -66,8 +66,6 @@ bool inside_solid(const SceneGeometry& g, const Patch& p, int k) {
     return g.surface(p.surface).max_distance_from_point(solid->center, p.s0, p.s1, p.t0, p.t1) <= limit;
 }
 
-namespace {}  // namespace
-
 std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, int j,
                                                 const std::vector<int>& blockers, bool visibility) {
     const Patch& pi = g.patch(i);
