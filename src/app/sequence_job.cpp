@@ -234,8 +234,7 @@ private:
         std::vector<Rgb>& readings = m_r->sensor_irradiance[fp.solution];
         readings.assign(m_p.sensors.size(), Rgb(0.0));
         for (std::size_t k = 0; k < m_p.sensors.size(); ++k)
-            for (std::size_t j = 0; j < m_solutions[fp.solution].size(); ++j)
-                readings[k] += m_p.sensors[k].F[j] * m_solutions[fp.solution][j];
+            readings[k] = sensor_irradiance(m_p.sensors[k], m_solutions[fp.solution]);
         // Diagnostics, not timed as solving.
         const SolveDiagnostics d = diagnose_solution(
             m_p.ff.F, m_p.ff.area, {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},

@@ -63,10 +63,7 @@ StillReport run_still(const StillJob& job) {
     const std::vector<Rgb> B = solve_still(job, p, mat, &r);
     for (std::size_t k = 0; k < p.sensors.size(); ++k) {
         StillReport::SensorReading s{p.scene.sensors[k].name, Rgb(0.0), Rgb(0.0)};
-        for (std::size_t j = 0; j < B.size(); ++j) {
-            s.irradiance += p.sensors[k].F[j] * B[j];
-            s.error += p.sensors[k].error[j] * B[j];
-        }
+        s.irradiance = sensor_irradiance(p.sensors[k], B, &s.error);
         r.sensors.push_back(s);
     }
     r.times.solve_s = clock.seconds();

@@ -122,11 +122,8 @@ Estimate area_times_f_contour(const SceneGeometry& g, int i, int j, const Contou
         const ContourValue v = contour_at(s, t, &da);
         return da * v.value;
     };
-    auto quarters = [&](const Rect& r, double) {
-        if (r.s1 - r.s0 > 0.5 * (pi.s1 - pi.s0) * (1 + 1e-12)) return Cut{0};
-        if (r.t1 - r.t0 > 0.5 * (pi.t1 - pi.t0) * (1 + 1e-12)) return Cut{1};
-        return Cut{};
-    };
+    const Rect root{pi.s0, pi.s1, pi.t0, pi.t1};
+    auto quarters = [&](const Rect& r, double) { return quarter_of(root, r); };
     const double region_tol = tol * std::min(pi.area, pj.area);
     std::vector<Rect> leaves;
     Estimate e = adaptive_rect(gx, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.9 * region_tol, max_regions, outer,

@@ -86,6 +86,14 @@ struct Estimate {
 // horizon change) inside the region: its estimate then also compares the value with a 3 x 3
 // split, whose nodes lie elsewhere.
 constexpr double kSafety = 4.0;
+// Regions wider than half the root along s (then t) are halved there: the first two levels of
+// splitting, for integrands whose kinks an estimate over the whole root can miss.
+inline Cut quarter_of(const Rect& root, const Rect& r) {
+    if (r.s1 - r.s0 > 0.5 * (root.s1 - root.s0) * (1 + 1e-12)) return Cut{0};
+    if (r.t1 - r.t0 > 0.5 * (root.t1 - root.t0) * (1 + 1e-12)) return Cut{1};
+    return Cut{};
+}
+
 struct NoSuspects {
     bool operator()(const Rect&, double) const { return false; }
 };

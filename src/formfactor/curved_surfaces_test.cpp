@@ -51,6 +51,36 @@ double max_row_error(const FormFactors& ff) {
     return worst;
 }
 
+// Every row's miss of 1 within the row's summed estimates (plus `slack`).
+void expect_rows_within_estimates(const FormFactors& ff, double slack) {
+    for (int i = 0; i < ff.F.n; ++i) {
+        double row = 0.0, est = 0.0;
+        for (int j = 0; j < ff.F.n; ++j) {
+            row += ff.F(i, j);
+            est += err_of(ff, i, j);
+        }
+        EXPECT_LE(std::abs(row - 1.0), est + slack) << "row " << i;
+    }
+}
+
+// The six inward faces f0..f5 of the cube [-h, h]^3, one patch each, `extra` added to each.
+std::string box_faces(const std::string& h, const std::string& extra = "") {
+    static const char* faces[6] = {"[[-H, -H, -H], [H, -H, -H], [H, H, -H], [-H, H, -H]]",
+                                   "[[-H, -H, H], [-H, H, H], [H, H, H], [H, -H, H]]",
+                                   "[[-H, -H, -H], [-H, -H, H], [H, -H, H], [H, -H, -H]]",
+                                   "[[-H, H, -H], [H, H, -H], [H, H, H], [-H, H, H]]",
+                                   "[[-H, -H, -H], [-H, H, -H], [-H, H, H], [-H, -H, H]]",
+                                   "[[H, -H, -H], [H, -H, H], [H, H, H], [H, H, -H]]"};
+    std::string s;
+    for (int k = 0; k < 6; ++k) {
+        std::string c;
+        for (const char* q = faces[k]; *q; ++q) c += *q == 'H' ? h : std::string(1, *q);
+        s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + c +
+             ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]" + extra + "}\n";
+    }
+    return s;
+}
+
 std::string disk(const std::string& name, const std::string& center, const std::string& normal, double r,
                  double inner, const std::string& patches) {
     return "  - {name: " + name + ", type: disk, center: " + center + ", normal: " + normal +
@@ -111,14 +141,7 @@ TEST(CurvedSurfaces, InsideAClosedCanRowsSumToOne) {
     EXPECT_NEAR(surface_factor(scene, ff, 2, 2), 1.0 - 2.0 * kPi * (1.0 - dd) / (4.0 * kPi), 1e-8);
     // No entry of the matrix is off by more than its own estimate says: the row sums' misses
     // are within the rows' summed estimates.
-    for (int i = 0; i < ff.F.n; ++i) {
-        double row = 0.0, est = 0.0;
-        for (int j = 0; j < ff.F.n; ++j) {
-            row += ff.F(i, j);
-            est += err_of(ff, i, j);
-        }
-        EXPECT_LE(std::abs(row - 1.0), est + 1e-14) << "row " << i;
-    }
+    expect_rows_within_estimates(ff, 1e-14);
 }
 
 TEST(CurvedSurfaces, HemisphereOverItsBaseDisk) {
@@ -168,16 +191,7 @@ TEST(CurvedSurfaces, ARotatedSphereKeepsItsPatchesInPlace) {
     // A sphere split 8 x 4 in a box, the whole scene turned 30 degrees about (1, 1, 0): the
     // sphere's patches turn with it, and every factor stays.
     auto scene_text = [](const std::string& xf) {
-        std::string s = "surfaces:\n";
-        const char* faces[6] = {"[[-2, -2, -2], [2, -2, -2], [2, 2, -2], [-2, 2, -2]]",
-                                "[[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]]",
-                                "[[-2, -2, -2], [-2, -2, 2], [2, -2, 2], [2, -2, -2]]",
-                                "[[-2, 2, -2], [2, 2, -2], [2, 2, 2], [-2, 2, 2]]",
-                                "[[-2, -2, -2], [-2, 2, -2], [-2, 2, 2], [-2, -2, 2]]",
-                                "[[2, -2, -2], [2, -2, 2], [2, 2, 2], [2, 2, -2]]"};
-        for (int k = 0; k < 6; ++k)
-            s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
-                 ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]" + xf + "}\n";
+        std::string s = "surfaces:\n" + box_faces("2", xf);
         s += "  - {name: ball, type: sphere, center: [0.3, 0.2, -0.1], radius: 1, patches: [8, 4], "
              "reflectance: [0.5, 0.5, 0.5]" +
              xf + "}\n";
@@ -192,16 +206,7 @@ TEST(CurvedSurfaces, ARotatedSphereKeepsItsPatchesInPlace) {
 }
 
 TEST(CurvedSurfaces, TwoSidedDiskInABoxCloses) {
-    std::string s = "surfaces:\n";
-    const char* faces[6] = {"[[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1]]",
-                            "[[-1, -1, 1], [-1, 1, 1], [1, 1, 1], [1, -1, 1]]",
-                            "[[-1, -1, -1], [-1, -1, 1], [1, -1, 1], [1, -1, -1]]",
-                            "[[-1, 1, -1], [1, 1, -1], [1, 1, 1], [-1, 1, 1]]",
-                            "[[-1, -1, -1], [-1, 1, -1], [-1, 1, 1], [-1, -1, 1]]",
-                            "[[1, -1, -1], [1, -1, 1], [1, 1, 1], [1, 1, -1]]"};
-    for (int k = 0; k < 6; ++k)
-        s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
-             ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+    std::string s = "surfaces:\n" + box_faces("1");
     s +=
         "  - {name: plate, type: disk, center: [0, 0, 0.2], normal: [0, 0, 1], radius: 0.5, patches: [1, 1], "
         "reflectance: [0.8, 0.8, 0.8], two_sided: true, back_reflectance: [0.1, 0.2, 0.3]}\n";
@@ -213,14 +218,7 @@ TEST(CurvedSurfaces, TwoSidedDiskInABoxCloses) {
     // Wall-to-wall pairs the plate comes between take the numeric path, which stops at its cap
     // here: closure to about 2e-3, and every row's miss within the row's summed estimates.
     EXPECT_LE(max_row_error(ff), 5e-3);
-    for (int i = 0; i < ff.F.n; ++i) {
-        double row = 0.0, est = 0.0;
-        for (int j = 0; j < ff.F.n; ++j) {
-            row += ff.F(i, j);
-            est += err_of(ff, i, j);
-        }
-        EXPECT_LE(std::abs(row - 1.0), est) << "row " << i;
-    }
+    expect_rows_within_estimates(ff, 0.0);
     // The top face sees the front of the plate, the bottom face its back; front and back
     // never see each other.
     EXPECT_GT(ff.F(1, 6), 0.0);

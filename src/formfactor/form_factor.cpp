@@ -124,14 +124,7 @@ public:
           m_inner_fine(gauss_legendre(7)) {}
 
     // The planar polygon of patch j, counter-clockwise about its front normal.
-    std::array<Vec3, 4> polygon(int j) const {
-        const Patch& p = m_geo.patch(j);
-        std::array<Vec3, 4> v = p.corners;
-        const Vec3 front = m_geo.surface(p.surface).normal(0.5 * (p.s0 + p.s1), 0.5 * (p.t0 + p.t1));
-        const Vec3 newell = glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2]);
-        if (glm::dot(front, newell) < 0.0) std::swap(v[1], v[3]);
-        return v;
-    }
+    std::array<Vec3, 4> polygon(int j) const { return m_geo.front_polygon(j); }
 
     // A_i F_ij = A_j F_ji exactly (to round-off, with its rounding estimate), when a closed
     // form covers the pair: two polygons nothing can come between (the contour integral), or two
@@ -239,8 +232,7 @@ public:
             // across the patch; nested estimates on the whole patch can miss that, so shadowed
             // pairs start from quarters.
             if (b || !shadow.flats.empty()) {
-                if (r.s1 - r.s0 > 0.5 * (pi.s1 - pi.s0) * (1 + 1e-12)) return Cut{0};
-                if (r.t1 - r.t0 > 0.5 * (pi.t1 - pi.t0) * (1 + 1e-12)) return Cut{1};
+                if (const Cut c = quarter_of(Rect{pi.s0, pi.s1, pi.t0, pi.t1}, r); c.dir >= 0) return c;
             }
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
             // Every node of the region sees nothing, yet an event crosses it: a sliver of it sees

@@ -66,21 +66,13 @@ std::vector<int> blockers_of(const SceneGeometry& g, const Vec3& x, const Patch&
     return out;
 }
 
-// The polygon of patch j, counter-clockwise about its front normal.
-std::array<Vec3, 4> front_polygon(const SceneGeometry& g, const Patch& p) {
-    std::array<Vec3, 4> v = p.corners;
-    const Vec3 front = g.surface(p.surface).normal(0.5 * (p.s0 + p.s1), 0.5 * (p.t0 + p.t1));
-    const Vec3 newell = glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2]);
-    if (glm::dot(front, newell) < 0.0) std::swap(v[1], v[3]);
-    return v;
-}
-
 // F(dA -> j) for an unblocked patch by a contour, when one applies.
-std::optional<ContourValue> by_contour(const SceneGeometry& g, const Vec3& x, const Vec3& n, const Patch& pj,
+std::optional<ContourValue> by_contour(const SceneGeometry& g, const Vec3& x, const Vec3& n, int j,
                                        double tol) {
+    const Patch& pj = g.patch(j);
     const Surface& sj = g.surface(pj.surface);
     if (pj.polygon) {
-        const std::array<Vec3, 4> v = front_polygon(g, pj);
+        const std::array<Vec3, 4> v = g.front_polygon(j);
         ContourValue c;
         c.value = point_to_polygon(x, n, v.data(), 4, nullptr);
         c.error = 64 * std::numeric_limits<double>::epsilon();
@@ -148,15 +140,22 @@ Estimate by_cubature(const SceneGeometry& g, const Vec3& x, const Vec3& n, const
             if (g.surface(k).intersect(seg, 1e-9, 1.0 - 1e-9, HitSide::Any)) return 0.0;
         return ci * cj / (kPi * l2 * l2);
     };
-    auto quarters = [&](const Rect& r, double) {
-        if (r.s1 - r.s0 > 0.5 * (pj.s1 - pj.s0) * (1 + 1e-12)) return Cut{0};
-        if (r.t1 - r.t0 > 0.5 * (pj.t1 - pj.t0) * (1 + 1e-12)) return Cut{1};
-        return Cut{};
-    };
+    const Rect root{pj.s0, pj.s1, pj.t0, pj.t1};
+    auto quarters = [&](const Rect& r, double) { return quarter_of(root, r); };
     return adaptive_rect(h, Rect{pj.s0, pj.s1, pj.t0, pj.t1}, tol, 4096, gauss_legendre(4), quarters);
 }
 
 }  // namespace
+
+Rgb sensor_irradiance(const SensorFactors& s, const std::vector<Rgb>& B, Rgb* error) {
+    Rgb e(0.0), err(0.0);
+    for (std::size_t j = 0; j < B.size(); ++j) {
+        e += s.F[j] * B[j];
+        err += s.error[j] * B[j];
+    }
+    if (error) *error = err;
+    return e;
+}
 
 SensorFactors sensor_factors(const SceneGeometry& g, const Vec3& x, const Vec3& unit_normal, double tolerance,
                              bool visibility) {
@@ -176,7 +175,7 @@ SensorFactors sensor_factors(const SceneGeometry& g, const Vec3& x, const Vec3& 
             if (const auto pl = sj.plane(); pl && pl->signed_distance(x) <= 0.0) continue;
             const std::vector<int> blockers = visibility ? blockers_of(g, x, pj, eps) : std::vector<int>{};
             if (blockers.empty())
-                if (const auto c = by_contour(g, x, unit_normal, pj, tolerance)) {
+                if (const auto c = by_contour(g, x, unit_normal, j, tolerance)) {
                     out.F[j] = c->value;
                     out.error[j] = c->error;
                     closed[j] = 1;

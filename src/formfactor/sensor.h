@@ -19,6 +19,9 @@ struct SensorFactors {
     long long closed_form = 0;  // entries by a contour formula (the rest numerically or zero)
 };
 
+// sum_j F(dA -> j) B_j per channel; with `error`, also sum_j (estimate of F(dA -> j)) B_j.
+Rgb sensor_irradiance(const SensorFactors& s, const std::vector<Rgb>& B, Rgb* error = nullptr);
+
 // `tolerance`: absolute, per entry. Throws nothing for valid input.
 SensorFactors sensor_factors(const SceneGeometry& g, const Vec3& x, const Vec3& unit_normal, double tolerance,
                              bool visibility);

@@ -45,6 +45,15 @@ SceneGeometry::SceneGeometry(const Scene& scene) {
     m_scale = glm::length(hi - lo);
 }
 
+std::array<Vec3, 4> SceneGeometry::front_polygon(int patch) const {
+    const Patch& p = m_patches[patch];
+    std::array<Vec3, 4> v = p.corners;
+    const Vec3 front = m_surfaces[p.surface]->normal(0.5 * (p.s0 + p.s1), 0.5 * (p.t0 + p.t1));
+    const Vec3 newell = glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2]);
+    if (glm::dot(front, newell) < 0.0) std::swap(v[1], v[3]);
+    return v;
+}
+
 Hit SceneGeometry::locate(int k, double s, double t, double dist) const {
     Hit h;
     h.dist = dist;

@@ -57,6 +57,8 @@ public:
     // The nearest front-facing surface point along the ray (one-sided surfaces: a ray
     // arriving from behind passes through).
     std::optional<Hit> intersect_front(const Ray& ray) const;
+    // A polygon patch's corners, counter-clockwise about its front normal.
+    std::array<Vec3, 4> front_polygon(int patch) const;
     // "surface[is,it]": how reports, exports and messages name a patch.
     std::string patch_label(int patch) const;
     // Maps surface parameters to the patch that owns them and the local (u, v).
