@@ -143,19 +143,16 @@ std::optional<ConvexSolid> FrustumSurface::convex_solid() const {
 
 double FrustumSurface::max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                               double t1) const {
-    const Vec3 q = p - m_base;
-    const bool own_axis = glm::length(glm::cross(u, m_frame.axis)) <= 1e-14 &&
-                          glm::length(q - glm::dot(q, m_frame.axis) * m_frame.axis) <= 1e-14 * m_r0;
-    if (!own_axis) return Surface::max_distance_from_line(p, u, s0, s1, t0, t1);
+    if (!(m_frame.along_axis(u) && m_frame.on_axis(m_base, p, m_r0)))
+        return Surface::max_distance_from_line(p, u, s0, s1, t0, t1);
     return std::max(r(t0), r(t1));
 }
 
 double FrustumSurface::max_distance_from_point(const Vec3& p, double s0, double s1, double t0,
                                                double t1) const {
-    const Vec3 q = p - m_base;
-    const double h = glm::dot(q, m_frame.axis);
-    if (glm::length(q - h * m_frame.axis) > 1e-14 * std::max(m_r0, m_r1))
+    if (!m_frame.on_axis(m_base, p, std::max(m_r0, m_r1)))
         return Surface::max_distance_from_point(p, s0, s1, t0, t1);
+    const double h = glm::dot(p - m_base, m_frame.axis);
     // The squared distance (t L - h)^2 + r(t)^2 is convex in t.
     return std::max(std::hypot(t0 * m_length - h, r(t0)), std::hypot(t1 * m_length - h, r(t1)));
 }

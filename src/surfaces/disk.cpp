@@ -100,19 +100,14 @@ bool DiskSurface::patch_contour(double s0, double s1, double t0, double t1,
 
 double DiskSurface::max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                            double t1) const {
-    const Vec3 q = p - m_center;
-    const bool own_axis = glm::length(glm::cross(u, m_frame.axis)) <= 1e-14 &&
-                          glm::length(q - glm::dot(q, m_frame.axis) * m_frame.axis) <= 1e-14 * m_radius;
-    if (!own_axis) return Surface::max_distance_from_line(p, u, s0, s1, t0, t1);
+    if (!(m_frame.along_axis(u) && m_frame.on_axis(m_center, p, m_radius)))
+        return Surface::max_distance_from_line(p, u, s0, s1, t0, t1);
     return rho(t1);
 }
 
 double DiskSurface::max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const {
-    const Vec3 q = p - m_center;
-    const double h = glm::dot(q, m_frame.axis);
-    if (glm::length(q - h * m_frame.axis) > 1e-14 * m_radius)
-        return Surface::max_distance_from_point(p, s0, s1, t0, t1);
-    return std::hypot(h, rho(t1));
+    if (!m_frame.on_axis(m_center, p, m_radius)) return Surface::max_distance_from_point(p, s0, s1, t0, t1);
+    return std::hypot(glm::dot(p - m_center, m_frame.axis), rho(t1));
 }
 
 bool DiskSurface::faces_ball(double, double, double, double, const BoundingSphere& b, bool back) const {

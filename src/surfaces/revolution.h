@@ -17,6 +17,13 @@ struct AzimuthFrame {
     Vec3 e1, e2, axis;
     Vec3 radial(double phi) const { return std::cos(phi) * e1 + std::sin(phi) * e2; }
     Vec3 tangent(double phi) const { return -std::sin(phi) * e1 + std::cos(phi) * e2; }
+    // Whether p lies on the axis through `origin` (to 1e-14 of `size`), and whether the unit
+    // vector u runs along it: the cases where distances from a point or line are exact.
+    bool on_axis(const Vec3& origin, const Vec3& p, double size) const {
+        const Vec3 q = p - origin;
+        return glm::length(q - glm::dot(q, axis) * axis) <= 1e-14 * size;
+    }
+    bool along_axis(const Vec3& u) const { return glm::length(glm::cross(u, axis)) <= 1e-14; }
 };
 AzimuthFrame azimuth_frame(const Vec3& unit_axis);
 
