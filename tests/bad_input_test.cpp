@@ -74,13 +74,14 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
          "@:8:17: patch must be a list of 2 integers [i, j] (0-based)"},
         {"unknown surface type",
          std::string(
-             "surfaces:\n  - name: a\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-         "@:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone, sensor)"},
+             "surfaces:\n  - name: a\n    type: klein\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+         "@:3:11: unknown surface type 'klein' (known: quad, sphere, disk, cylinder, cone, torus, bezier, "
+         "triangle, mesh, sensor)"},
         {"wrong type",
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: many\n    reflectance: [0.5, 0.5, 0.5]\n",
                      146),
-         "@:5:14: patches must be a list of 2 integers [ns, nt]"},
+         "@:5:14: patches must be a list of 2 integers [ns, nt], or one integer n"},
         {"NaN",
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [.nan, 0.5, 0.5]\n",

@@ -3,6 +3,7 @@
 // write_key forgets a field fails here.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
 
 #include "cache/cache_file.h"
@@ -18,7 +19,10 @@ Scene one_surface(const SurfaceType& type, const std::vector<SurfaceKeyValue>& k
     std::string yaml = "surfaces:\n  - name: s\n    type: " + type.name + "\n    patches: " + patches +
                        "\n    reflectance: [0.5, 0.5, 0.5]\n";
     for (const auto& kv : keys) yaml += "    " + kv.key + ": " + kv.value + "\n";
-    return parse_scene(yaml, type.name + ".yaml");
+    // Files the type's keys name sit beside the scene file.
+    const std::string dir = testing::TempDir();
+    for (const auto& f : type.example_files) std::ofstream(dir + "/" + f.key) << f.value;
+    return parse_scene(yaml, dir + "/" + type.name + ".yaml");
 }
 
 std::vector<SurfaceKeyValue> with(std::vector<SurfaceKeyValue> keys, const SurfaceKeyValue& change) {
@@ -36,7 +40,7 @@ TEST(SurfaceRegistry, NamesAreUniqueAndFound) {
         EXPECT_EQ(find_surface_type(t->name), t);
     }
     EXPECT_EQ(find_surface_type("teapot"), nullptr);
-    EXPECT_EQ(surface_type_names(), "quad, sphere, disk, cylinder, cone");
+    EXPECT_EQ(surface_type_names(), "quad, sphere, disk, cylinder, cone, torus, bezier, triangle, mesh");
 }
 
 TEST(SurfaceRegistry, EveryParameterOfEveryTypeReachesTheCacheKey) {
@@ -79,9 +83,9 @@ TEST(SurfaceRegistry, UnknownTypeNamesTheKnownOnes) {
                     "x.yaml");
         FAIL() << "no error";
     } catch (const Error& e) {
-        EXPECT_STREQ(
-            e.what(),
-            "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere, disk, cylinder, cone, sensor)");
+        EXPECT_STREQ(e.what(),
+                     "x.yaml:2:21: unknown surface type 'teapot' (known: quad, sphere, disk, cylinder, cone, "
+                     "torus, bezier, triangle, mesh, sensor)");
     }
 }
 

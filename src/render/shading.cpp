@@ -27,8 +27,11 @@ NodeRadiosity::NodeRadiosity(const SceneGeometry& geo, const std::vector<Rgb>& B
                     for (int da = -1; da <= 0; ++da)
                         for (int db = -1; db <= 0; ++db) {
                             int is = a + da;
-                            const int it = b + db;
-                            if (it < 0 || it >= nt) continue;
+                            int it = b + db;
+                            if (surf.wraps_in_t())
+                                it = (it + nt) % nt;  // the seam t = 0 = 1
+                            else if (it < 0 || it >= nt)
+                                continue;
                             if (surf.wraps_in_s())
                                 is = (is + ns) % ns;  // the seam s = 0 = 1
                             else if (is < 0 || is >= ns)

@@ -33,17 +33,24 @@ Rgb read_emission(const YAML::Node& node, const std::string& file) {
     return e;
 }
 
+// patches: [ns, nt], or n for [n, n].
 void read_patches(YamlMap& m, SurfaceDesc& s) {
     const YAML::Node node = m.required("patches");
-    if (!node.IsSequence() || node.size() != 2)
-        throw Error(loc_of(node, m.file()), "patches must be a list of 2 integers [ns, nt]");
+    if (!(node.IsSequence() && node.size() == 2) &&
+        !(node.IsScalar() && !node.Scalar().empty() &&
+          node.Scalar().find_first_not_of("+-0123456789") == std::string::npos))
+        throw Error(loc_of(node, m.file()),
+                    "patches must be a list of 2 integers [ns, nt], or one integer n");
     long long n[2];
     for (int k = 0; k < 2; ++k) {
-        n[k] = yaml_integer(node[k], m.file(), k == 0 ? "patches[0] (ns)" : "patches[1] (nt)");
+        const YAML::Node v = node.IsScalar() ? node : node[k];
+        n[k] = yaml_integer(v, m.file(),
+                            node.IsScalar() ? "patches"
+                            : k == 0        ? "patches[0] (ns)"
+                                            : "patches[1] (nt)");
         if (n[k] < 1 || n[k] > kMaxPatchesPerAxis)
-            throw Error(loc_of(node[k], m.file()), "patch count must be between 1 and " +
-                                                       std::to_string(kMaxPatchesPerAxis) + ", got " +
-                                                       node[k].Scalar());
+            throw Error(loc_of(v, m.file()), "patch count must be between 1 and " +
+                                                 std::to_string(kMaxPatchesPerAxis) + ", got " + v.Scalar());
     }
     s.ns = static_cast<int>(n[0]);
     s.nt = static_cast<int>(n[1]);
@@ -81,8 +88,9 @@ void read_patch_emission(YamlMap& m, SurfaceDesc& s) {
     }
 }
 
-// The keys every surface has; the type's own keys are read by its reader (surfaces/*.cpp). A
-// two-sided surface becomes two: the surface as given and its back side, "<name>.back".
+// The keys every surface has; the type's own keys are read by its reader (surfaces/*.cpp). An
+// entry may make several surfaces (a type's parts, "<name>.<part>"), and a two-sided surface
+// becomes two: the surface as given and its back side, "<name>.back", right after it.
 std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string& file, int index) {
     YamlMap m(node, file, "surface #" + std::to_string(index + 1));
     SurfaceDesc s;
@@ -98,29 +106,47 @@ std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string&
     s.reflectance = read_reflectance(m.required("reflectance"), file);
     if (auto e = m.optional("emission")) s.emission = read_emission(*e, file);
     read_patch_emission(m, s);
-    s.shape = s.type->read(m, s.name);
+    std::vector<SurfacePart> parts;
+    if (s.type->read_parts)
+        parts = s.type->read_parts(m, s.name);
+    else
+        parts.push_back(SurfacePart{"", s.type->read(m, s.name), std::nullopt, std::nullopt});
+    if (parts.size() > 1 && !s.patch_emission.empty())
+        throw Error(m.key_loc("patch_emission"),
+                    "patch_emission needs a single surface, but '" + s.name + "' makes " +
+                        std::to_string(parts.size()) +
+                        " (give the emission to the whole entry, or to a material)");
     const bool two_sided = m.boolean_or("two_sided", false);
     Similarity xf;
     const auto transform = m.optional("transform");
     if (transform) xf = read_transform(*transform, file);
-    SurfaceDesc back = s;
-    back.name = s.name + ".back";
-    back.emission = Rgb(0.0);
-    back.patch_emission.clear();
     for (const char* key : {"back_reflectance", "back_emission"})
         if (m.has(key) && !two_sided)
             throw Error(m.key_loc(key),
                         std::string(key) + " needs two_sided: true on surface '" + s.name + "'");
-    if (auto r = m.optional("back_reflectance")) back.reflectance = read_reflectance(*r, file);
-    if (auto e = m.optional("back_emission")) back.emission = read_emission(*e, file);
+    std::optional<Rgb> back_rho, back_e;
+    if (auto r = m.optional("back_reflectance")) back_rho = read_reflectance(*r, file);
+    if (auto e = m.optional("back_emission")) back_e = read_emission(*e, file);
     m.reject_unknown_keys("name, type, " + s.type->keys +
                           ", patches, reflectance, emission, patch_emission, transform, two_sided, "
                           "back_reflectance, back_emission");
     std::vector<SurfaceDesc> out;
-    if (two_sided) back.shape = std::make_shared<PlacedSurface>(s.shape, xf, true);
-    if (transform) s.shape = std::make_shared<PlacedSurface>(s.shape, xf, false);
-    out.push_back(std::move(s));
-    if (two_sided) out.push_back(std::move(back));
+    for (const SurfacePart& part : parts) {
+        SurfaceDesc d = s;
+        if (!part.suffix.empty()) d.name += "." + part.suffix;
+        if (part.reflectance) d.reflectance = *part.reflectance;
+        if (part.emission) d.emission = *part.emission;
+        d.shape = transform ? std::make_shared<PlacedSurface>(part.shape, xf, false) : part.shape;
+        SurfaceDesc back = d;
+        out.push_back(std::move(d));
+        if (!two_sided) continue;
+        back.name += ".back";
+        back.emission = back_e.value_or(Rgb(0.0));
+        back.patch_emission.clear();
+        if (back_rho) back.reflectance = *back_rho;
+        back.shape = std::make_shared<PlacedSurface>(part.shape, xf, true);
+        out.push_back(std::move(back));
+    }
     return out;
 }
 

@@ -216,8 +216,9 @@ TEST(SceneYaml, PatchEmissionMustNameAnExistingPatch) {
 TEST(SceneYaml, UnknownSurfaceType) {
     EXPECT_EQ(
         parse_error(
-            "surfaces:\n  - name: t\n    type: torus\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
-        "s.yaml:3:11: unknown surface type 'torus' (known: quad, sphere, disk, cylinder, cone, sensor)");
+            "surfaces:\n  - name: t\n    type: klein\n    patches: [1, 1]\n    reflectance: [0, 0, 0]\n"),
+        "s.yaml:3:11: unknown surface type 'klein' (known: quad, sphere, disk, cylinder, cone, torus, "
+        "bezier, triangle, mesh, sensor)");
 }
 
 TEST(SceneYaml, MalformedEmptyAndBinaryFiles) {

@@ -69,6 +69,7 @@ public:
         return m_inner->faces_ball(s0, s1, t0, t1, to_inner(b), back != m_back);
     }
     bool wraps_in_s() const override { return m_inner->wraps_in_s(); }
+    bool wraps_in_t() const override { return m_inner->wraps_in_t(); }
     bool pole_at_t0() const override { return m_inner->pole_at_t0(); }
     bool pole_at_t1() const override { return m_inner->pole_at_t1(); }
     // The inner surface's key, then the transform and the side.

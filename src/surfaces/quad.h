@@ -1,6 +1,7 @@
 #pragma once
 // The `quad` surface type: the bilinear map of four coplanar corners of a convex quadrilateral.
 #include <array>
+#include <memory>
 #include <utility>
 
 #include "surfaces/surface.h"
@@ -27,6 +28,8 @@ public:
     bool sees_itself() const override { return false; }
     bool back_segments_escape() const override { return true; }
     bool back_sees_itself() const override { return false; }
+    // A triangle (triangle.cpp): the last two corners coincide, and the edge t = 1 is one point.
+    bool pole_at_t1() const override { return m_corners[2] == m_corners[3]; }
     // Exact: the distance from a line is convex, so its largest value is at a corner.
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override;
@@ -42,5 +45,8 @@ private:
     Plane m_plane;
     Vec3 m_u, m_v;  // orthonormal in-plane axes
 };
+
+// The triangle a, b, c as a quad whose edge t = 1 collapses to c (surfaces/triangle.cpp).
+std::shared_ptr<const Surface> make_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
 
 }  // namespace radiosa

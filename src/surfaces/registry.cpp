@@ -8,10 +8,15 @@ extern const SurfaceType kSphereType;
 extern const SurfaceType kDiskType;
 extern const SurfaceType kCylinderType;
 extern const SurfaceType kConeType;
+extern const SurfaceType kTorusType;
+extern const SurfaceType kBezierType;
+extern const SurfaceType kTriangleType;
+extern const SurfaceType kMeshType;
 
 const std::vector<const SurfaceType*>& surface_types() {
-    static const std::vector<const SurfaceType*> types = {&kQuadType, &kSphereType, &kDiskType,
-                                                          &kCylinderType, &kConeType};
+    static const std::vector<const SurfaceType*> types = {&kQuadType,     &kSphereType,   &kDiskType,
+                                                          &kCylinderType, &kConeType,     &kTorusType,
+                                                          &kBezierType,   &kTriangleType, &kMeshType};
     return types;
 }
 

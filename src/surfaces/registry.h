@@ -5,6 +5,7 @@
 // checks that each type's every parameter reaches the form-factor cache key.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +21,14 @@ struct SurfaceKeyValue {
     std::string value;
 };
 
+// One surface of an entry that makes several (a file of Bezier patches, a mesh's faces).
+struct SurfacePart {
+    std::string suffix;  // the part is named "<entry name>.<suffix>"; empty for an entry's only part
+    std::shared_ptr<const Surface> shape;
+    std::optional<Rgb> reflectance;  // replaces the entry's (a mesh material's Kd)
+    std::optional<Rgb> emission;     // replaces the entry's (a mesh material's Ke)
+};
+
 struct SurfaceType {
     std::string name;      // the value of `type:` in scene files
     std::uint32_t key_id;  // hashed into cache keys; never reuse or renumber one
@@ -32,6 +41,11 @@ struct SurfaceType {
     // one parameter (a key of `example` given another value) and must change the key.
     std::vector<SurfaceKeyValue> example;
     std::vector<SurfaceKeyValue> variants;
+    // Types whose entries make several surfaces read through this instead of `read` (which is
+    // then nullptr); files they name are relative to the scene file's folder.
+    std::vector<SurfacePart> (*read_parts)(YamlMap& m, const std::string& name) = nullptr;
+    // For the cache-key test: files the example and variants name, {file name, contents}.
+    std::vector<SurfaceKeyValue> example_files = {};
 };
 
 // Every registered type, in registration order.

@@ -143,6 +143,7 @@ public:
     double orientation() const { return m_orientation; }
     // Topology of the parameter domain, for averaging radiosities at shared nodes.
     virtual bool wraps_in_s() const { return false; }  // s = 0 and s = 1 coincide
+    virtual bool wraps_in_t() const { return false; }  // t = 0 and t = 1 coincide (a torus's tube)
     virtual bool pole_at_t0() const { return false; }  // the whole edge t = 0 is one point
     virtual bool pole_at_t1() const { return false; }
 

@@ -56,7 +56,9 @@ YAML::Node load_yaml_string(const std::string& text, const std::string& filename
 std::string read_input_file(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw Error(path + ": no such file");
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, expected a YAML file");
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, expected a file");
+    // A device or a pipe (/dev/zero, a FIFO) could block or never end.
+    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": is not a regular file");
     const auto size = std::filesystem::file_size(path, ec);
     if (!ec && size > kMaxInputBytes)
         throw Error(FileLoc{path, 0, 0},
