@@ -134,6 +134,11 @@ void Culling::occluders(int i, int j, bool culling, std::vector<int>* out, FormF
         else
             ++st->occluders_culled;
     }
+    // The two sides of a two-sided surface are one set of points: a segment crosses both or
+    // neither, so one of them is tested.
+    const auto kept = [&](int k) { return std::find(out->begin(), out->end(), k) != out->end(); };
+    std::erase_if(*out,
+                  [&](int k) { return m_geo.twin(k) >= 0 && m_geo.twin(k) < k && kept(m_geo.twin(k)); });
     if (out->empty()) ++st->pairs_unoccluded;
 }
 
