@@ -68,8 +68,24 @@ Rgb read_value(const YAML::Node& n, const std::string& file, EventProperty prop)
     return v;
 }
 
-SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::string& file,
-                         const Scene* scene) {
+// The surfaces an event's `surface` names: the one of that name, or else every front surface one
+// entry of several made (a Bezier file's patches, a mesh's faces: "<name>.<k>", not "....back").
+std::vector<int> named_surfaces(const Scene& scene, const std::string& name) {
+    if (const int k = scene.find_surface(name); k >= 0) return {k};
+    std::vector<int> parts;
+    for (int k = 0; k < static_cast<int>(scene.surfaces.size()); ++k) {
+        const SurfaceDesc& d = scene.surfaces[k];
+        if (d.name.starts_with(name + ".") && !d.name.ends_with(".back") &&
+            (parts.empty() || (d.loc.line == scene.surfaces[parts[0]].loc.line &&
+                               d.loc.col == scene.surfaces[parts[0]].loc.col)))
+            parts.push_back(k);
+    }
+    return parts;
+}
+
+// One event per surface it names (an entry of several surfaces gives several).
+std::vector<SequenceEvent> read_event(const YAML::Node& node, std::size_t index, const std::string& file,
+                                      const Scene* scene) {
     const std::string what = "event " + std::to_string(index + 1);
     YamlMap m(node, file, what);
     SequenceEvent ev;
@@ -87,8 +103,10 @@ SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::s
     }
     const YAML::Node sn = m.required("surface");
     const std::string name = yaml_string(sn, file, "surface");
+    std::vector<int> targets;
     if (scene) {
-        ev.surface = scene->find_surface(name);
+        targets = named_surfaces(*scene, name);
+        ev.surface = targets.empty() ? -1 : targets[0];
         if (ev.surface < 0) {
             std::string known;
             for (const auto& s : scene->surfaces) known += (known.empty() ? "" : ", ") + s.name;
@@ -101,8 +119,8 @@ SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::s
             throw Error(loc_of(*p, file), what + ": patch must be [i, j] (0-based indices along s and t)");
         const long long i = yaml_integer((*p)[0], file, "patch[0]"),
                         j = yaml_integer((*p)[1], file, "patch[1]");
-        if (scene) {
-            const SurfaceDesc& s = scene->surfaces[ev.surface];
+        for (const int k : targets) {
+            const SurfaceDesc& s = scene->surfaces[k];
             if (i < 0 || i >= s.ns || j < 0 || j >= s.nt)
                 throw Error(loc_of(*p, file), what + ": surface '" + name + "' has patches [0.." +
                                                   std::to_string(s.ns - 1) + ", 0.." +
@@ -116,7 +134,13 @@ SequenceEvent read_event(const YAML::Node& node, std::size_t index, const std::s
     ev.property = e ? EventProperty::Emission : EventProperty::Reflectance;
     ev.value = read_value(m.required(e ? "emission" : "reflectance"), file, ev.property);
     m.reject_unknown_keys("time_s, surface, patch, emission | reflectance");
-    return ev;
+    if (targets.size() <= 1) return {ev};
+    std::vector<SequenceEvent> out;
+    for (const int k : targets) {
+        ev.surface = k;
+        out.push_back(ev);
+    }
+    return out;
 }
 
 }  // namespace
@@ -177,7 +201,8 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
             throw Error(loc_of(*ev, filename),
                         "events must be a list of {time_s, surface, [patch], emission | reflectance}");
         for (std::size_t k = 0; k < ev->size(); ++k)
-            seq.events.push_back(read_event((*ev)[k], k, filename, scene));
+            for (SequenceEvent& e : read_event((*ev)[k], k, filename, scene))
+                seq.events.push_back(std::move(e));
         std::stable_sort(seq.events.begin(), seq.events.end(),
                          [](const SequenceEvent& a, const SequenceEvent& b) { return a.t0 < b.t0; });
     }
