@@ -291,6 +291,7 @@ double BezierSurface::area(double s0, double s1, double t0, double t1) const {
     };
     std::vector<Rect> todo = {{s0, s1, t0, t1, rule(s0, s1, t0, t1), 0}};
     double total = 0.0;
+    int splits = 0;
     const double tol = 1e-15 * m_size * m_size;
     while (!todo.empty()) {
         const Rect q = todo.back();
@@ -301,7 +302,8 @@ double BezierSurface::area(double s0, double s1, double t0, double t1) const {
                               {q.a0, am, bm, q.b1, rule(q.a0, am, bm, q.b1), q.depth + 1},
                               {am, q.a1, bm, q.b1, rule(am, q.a1, bm, q.b1), q.depth + 1}};
         const double sum = kids[0].value + kids[1].value + kids[2].value + kids[3].value;
-        if (std::abs(sum - q.value) <= tol || q.depth >= 10) {
+        // Rounding can keep a rectangle from meeting tol: a depth and a total cap end it.
+        if (std::abs(sum - q.value) <= tol || q.depth >= 10 || ++splits > 2000) {
             total += sum;
             continue;
         }
