@@ -292,19 +292,21 @@ namespace radiosa {
 
 TEST(Sequence, AnEventOnAnEntryOfSeveralSurfacesChangesEachFrontPart) {
     // The teapot entry makes 32 surfaces and their backs: "teapot" names the 32 fronts.
-    const Scene scene =
-        parse_scene("closed: false\nsurfaces:\n  - {name: teapot, type: bezier, file: teapot.bpt, patches: 1, "
-                    "reflectance: [0.5, 0.5, 0.5], two_sided: true}\n",
-                    RADIOSA_SOURCE_DIR "/scenes/inline.yaml");
+    const Scene scene = parse_scene(
+        "closed: false\nsurfaces:\n  - {name: teapot, type: bezier, file: teapot.bpt, patches: 1, "
+        "reflectance: [0.5, 0.5, 0.5], two_sided: true}\n",
+        RADIOSA_SOURCE_DIR "/scenes/inline.yaml");
     ASSERT_EQ(scene.surfaces.size(), 64u);
     const SceneGeometry g(scene);
-    const Sequence s = parse_sequence(std::string("fps: 10\n") + kOrbitKeys +
-                                          "events:\n  - {time_s: 0, surface: teapot, reflectance: [1, 0, 0]}\n",
-                                      "s.yaml", &scene);
+    const Sequence s =
+        parse_sequence(std::string("fps: 10\n") + kOrbitKeys +
+                           "events:\n  - {time_s: 0, surface: teapot, reflectance: [1, 0, 0]}\n",
+                       "s.yaml", &scene);
     ASSERT_EQ(s.events.size(), 32u);
     const Materials m = s.materials_at(patch_materials(scene), g, 0.5);
     for (int k = 0; k < 64; ++k)
-        EXPECT_EQ(m.rho[g.patch_index(k, 0, 0)], k % 2 == 0 ? Rgb(1, 0, 0) : Rgb(0.5)) << scene.surfaces[k].name;
+        EXPECT_EQ(m.rho[g.patch_index(k, 0, 0)], k % 2 == 0 ? Rgb(1, 0, 0) : Rgb(0.5))
+            << scene.surfaces[k].name;
     // A part by its own name is one event; an unknown name is still refused.
     EXPECT_EQ(parse_sequence(std::string("fps: 10\n") + kOrbitKeys +
                                  "events:\n  - {time_s: 0, surface: teapot.7.back, reflectance: [1, 0, 0]}\n",
