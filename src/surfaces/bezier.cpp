@@ -114,7 +114,7 @@ void BezierSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
 
 Vec3 BezierSurface::unit_normal(double s, double t) const {
     // At a collapsed edge the cross product vanishes; its direction has a limit from inside,
-    // which points a little way in reach to the digits' precision.
+    // taken a little way into the patch, as far as the cross product needs to have digits.
     for (double step : {0.0, 1e-7, 1e-5, 1e-3}) {
         const double u = std::clamp(s, step, 1.0 - step), v = std::clamp(t, step, 1.0 - step);
         const Vec3 n = normal(u, v);
@@ -396,7 +396,7 @@ std::vector<std::array<Vec3, 16>> read_bezier_file(const std::string& path) {
                         std::string(what) + " must be an integer from 1 to " + std::to_string(max));
         return static_cast<int>(v[0]);
     };
-    const int patches = count_of("the number of patches", 100000);
+    const int patches = count_of("the number of patches", 20000);  // a scene holds at most 20,000 patches
     std::vector<std::pair<int, std::vector<double>>> index_lines;
     for (int p = 0; p < patches; ++p) index_lines.push_back(take(16, "a patch's 16 point indices"));
     const int points = count_of("the number of points", 1600000);
