@@ -125,6 +125,11 @@ TEST(Mesh, BrokenFilesAreRefusedAtTheirLine) {
     write("nomtl.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     EXPECT_EQ(parse_error("nomtl.obj", ", materials: wood"),
               dir + "mesh_scene.yaml:2:97: materials must be 'none' or 'mtl', got 'wood'");
+    write("two.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n");
+    EXPECT_EQ(parse_error("two.obj", ", patch_emission: [{patch: [0, 0], emission: [1, 1, 1]}]"),
+              dir +
+                  "mesh_scene.yaml:2:84: patch_emission needs a single surface, but 'm' makes 2 (give the "
+                  "emission to the whole entry, or to a material)");
     write("badkd.mtl", "newmtl hot\nKd 1.5 0 0\n");
     write("badkd.obj", "mtllib badkd.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl hot\nf 1 2 3\n");
     EXPECT_EQ(parse_error("badkd.obj", ", materials: mtl"),

@@ -72,6 +72,28 @@ TEST(Raycast, DiskAndCylinderSilhouettesCoverTheAnalyticArea) {
     EXPECT_NEAR(surface_coverage(geo, 2, cam, opt), width * opt.height, 0.01 * width * opt.height);
 }
 
+TEST(Raycast, TorusSilhouetteCoversTheAnalyticAnnulus) {
+    // Seen along its axis from distance D, a ring torus projects to an annulus: in a plane through
+    // the axis the tube is a circle of radius r about (R, 0), and the lines from the eye tangent to
+    // it leave the axis at atan(R / D) +- asin(r / hypot(R, D)).
+    const Scene s = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: ring, type: torus, center: [0, 0, 0], axis: [1, 0, 0], major_radius: 1, minor_radius: "
+        "0.25,\n"
+        "     patches: [8, 4], reflectance: [0.5, 0.5, 0.5]}\n",
+        "ring.yaml");
+    const SceneGeometry geo(s);
+    const RenderOptions opt{160, 120, 4};
+    CameraDesc cd;
+    cd.eye = Vec3(6, 0, 0);
+    cd.fov_deg = 50;
+    const PinholeCamera cam(cd, opt.width, opt.height);
+    const double mid = std::atan(1.0 / 6.0), half = std::asin(0.25 / std::hypot(1.0, 6.0));
+    const double f = cam.focal_pixels(), out = f * std::tan(mid + half), in = f * std::tan(mid - half);
+    const double area = kPi * (out * out - in * in);
+    EXPECT_NEAR(surface_coverage(geo, 0, cam, opt), area, 0.01 * area);
+}
+
 // Sub-pixel rays sit at the centres of their cells: a sphere in the middle of the view renders
 // left-right and top-bottom symmetric, with one ray per pixel and with four.
 TEST(Raycast, SamplesAtCellCentresKeepASymmetricViewSymmetric) {
