@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "surfaces/quad.h"
 #include "surfaces/registry.h"
@@ -113,21 +114,25 @@ std::vector<SurfacePart> read_mesh(YamlMap& m, const std::string& name) {
         if (e.loc()) throw;
         throw Error(where, e.message() + " (file is relative to the scene file's folder)");
     }
-    tinyobj::ObjReaderConfig config;
-    config.triangulate = false;
-    config.vertex_color = false;
-    config.mtl_search_path = path.parent_path().string();
-    tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path.string(), config) || !reader.Error().empty())
-        throw Error(FileLoc{path.string(), 0, 0}, "cannot read the OBJ file: " + reader.Error());
-    if (use_mtl && reader.GetMaterials().empty())
+    // tinyobjloader parses the text already read (one read of the file), and finds the .mtl files
+    // beside it.
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn, err;
+    std::istringstream in(text);
+    tinyobj::MaterialFileReader mtl_reader(path.parent_path().string() + "/");
+    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtl_reader, false, false) ||
+        !err.empty())
+        throw Error(FileLoc{path.string(), 0, 0}, "cannot read the OBJ file: " + err);
+    if (use_mtl && materials.empty())
         throw Error(where, "materials: mtl, but '" + rel + "' names no material file that could be read (" +
-                               reader.Warning() + ")");
+                               warn + ")");
     const ObjLines lines = obj_lines(text);
-    const auto& xyz = reader.GetAttrib().vertices;
+    const auto& xyz = attrib.vertices;
     std::vector<SurfacePart> parts;
     int face = 0;
-    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    for (const tinyobj::shape_t& shape : shapes) {
         std::size_t at = 0;
         for (std::size_t k = 0; k < shape.mesh.num_face_vertices.size(); ++k, ++face) {
             const int line = face < static_cast<int>(lines.faces.size()) ? lines.faces[face] : 0;
@@ -141,8 +146,8 @@ std::vector<SurfacePart> read_mesh(YamlMap& m, const std::string& name) {
             }
             std::optional<Rgb> rho, e;
             const int mat = k < shape.mesh.material_ids.size() ? shape.mesh.material_ids[k] : -1;
-            if (use_mtl && mat >= 0 && mat < static_cast<int>(reader.GetMaterials().size())) {
-                const tinyobj::material_t& mt = reader.GetMaterials()[mat];
+            if (use_mtl && mat >= 0 && mat < static_cast<int>(materials.size())) {
+                const tinyobj::material_t& mt = materials[mat];
                 rho = material_colour(mt.diffuse, "Kd (reflectance)", mt.name, 1.0, where);
                 e = material_colour(mt.emission, "Ke (emission)", mt.name, 1e300, where);
             }
