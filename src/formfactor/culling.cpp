@@ -1,6 +1,5 @@
 #include "formfactor/culling.h"
 
-#include <algorithm>
 #include <array>
 
 #include "util/convex_distance.h"
@@ -129,16 +128,15 @@ void Culling::occluders(int i, int j, bool culling, std::vector<int>* out, FormF
         const bool own = on_i || on_j || back_i || back_j;
         if (can_block && !own && slab_separates(pi, pj, k)) can_block = false;
         if (can_block && pi.polygon && pj.polygon && !own) can_block = !hull_misses(pi, pj, s);
-        if (can_block)
+        // The two sides of a two-sided surface are one set of points: a segment crosses both or
+        // neither, so a back side (listed right after its front) is not tested again.
+        const bool front_listed =
+            m_geo.twin(k) >= 0 && m_geo.twin(k) < k && !out->empty() && out->back() == m_geo.twin(k);
+        if (can_block && !front_listed)
             out->push_back(k);
-        else
+        else if (!can_block)
             ++st->occluders_culled;
     }
-    // The two sides of a two-sided surface are one set of points: a segment crosses both or
-    // neither, so one of them is tested.
-    const auto kept = [&](int k) { return std::find(out->begin(), out->end(), k) != out->end(); };
-    std::erase_if(*out,
-                  [&](int k) { return m_geo.twin(k) >= 0 && m_geo.twin(k) < k && kept(m_geo.twin(k)); });
     if (out->empty()) ++st->pairs_unoccluded;
 }
 
