@@ -34,6 +34,9 @@ struct SurfaceDesc {
     std::vector<PatchEmission> patch_emission;
     // The index of the other side of a two-sided surface (two_sided: true), else -1.
     int twin = -1;
+    // The index of the scene file's `surfaces` entry it came from: an entry can make several
+    // surfaces (a type's parts, back sides).
+    int entry = -1;
 };
 
 // A sensor: a differential element at `position` facing along `normal` (unit) that sees the

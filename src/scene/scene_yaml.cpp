@@ -260,9 +260,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
                                        " patches; the dense form-factor matrix would need " +
                                        std::to_string(total * total * 8 / 1000000000) +
                                        " GB or more (use fewer patches)");
-            if (s.name.ends_with(".back") && !scene.surfaces.empty() &&
-                scene.surfaces.back().name + ".back" == s.name &&
-                s.loc.line == scene.surfaces.back().loc.line && s.loc.col == scene.surfaces.back().loc.col) {
+            s.entry = static_cast<int>(i);
+            if (!scene.surfaces.empty() && scene.surfaces.back().entry == s.entry &&
+                scene.surfaces.back().name + ".back" == s.name) {
                 s.twin = static_cast<int>(scene.surfaces.size()) - 1;
                 scene.surfaces.back().twin = static_cast<int>(scene.surfaces.size());
             }

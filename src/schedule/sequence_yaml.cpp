@@ -76,8 +76,7 @@ std::vector<int> named_surfaces(const Scene& scene, const std::string& name) {
     for (int k = 0; k < static_cast<int>(scene.surfaces.size()); ++k) {
         const SurfaceDesc& d = scene.surfaces[k];
         if (d.name.starts_with(name + ".") && !d.name.ends_with(".back") &&
-            (parts.empty() || (d.loc.line == scene.surfaces[parts[0]].loc.line &&
-                               d.loc.col == scene.surfaces[parts[0]].loc.col)))
+            (parts.empty() || d.entry == scene.surfaces[parts[0]].entry))
             parts.push_back(k);
     }
     return parts;
