@@ -125,6 +125,7 @@ Vec3 BezierSurface::unit_normal(double s, double t) const {
 }
 
 std::array<Vec3, 16> BezierSurface::sub_patch(double s0, double s1, double t0, double t1) const {
+    if (s0 == 0.0 && s1 == 1.0 && t0 == 0.0 && t1 == 1.0) return m_cp;  // culling asks for the whole patch
     std::array<Vec3, 16> rows, out;
     for (int i = 0; i < 4; ++i) restrict_cubic(&m_cp[4 * i], s0, s1, &rows[4 * i]);
     for (int j = 0; j < 4; ++j) {

@@ -33,9 +33,8 @@ std::optional<SurfaceHit> FrustumSurface::intersect(const Ray& ray, double t_min
                                                     HitSide side) const {
     // In the frame (e1, e2, axis) from the base: x^2 + y^2 = (r0 + k z)^2, k = (r1 - r0) / L.
     const Vec3 q = ray.origin - m_base;
-    const double ox = glm::dot(q, m_frame.e1), oy = glm::dot(q, m_frame.e2), oz = glm::dot(q, m_frame.axis);
-    const double dx = glm::dot(ray.dir, m_frame.e1), dy = glm::dot(ray.dir, m_frame.e2),
-                 dz = glm::dot(ray.dir, m_frame.axis);
+    const Vec3 o = m_frame.local(q), d = m_frame.local(ray.dir);
+    const double ox = o.x, oy = o.y, oz = o.z, dx = d.x, dy = d.y, dz = d.z;
     const double k = (m_r1 - m_r0) / m_length;
     const double rho0 = m_r0 + k * oz, h = std::hypot(ox, oy);
     const double A = dx * dx + dy * dy - k * k * dz * dz;

@@ -17,6 +17,8 @@ struct AzimuthFrame {
     Vec3 e1, e2, axis;
     Vec3 radial(double phi) const { return std::cos(phi) * e1 + std::sin(phi) * e2; }
     Vec3 tangent(double phi) const { return -std::sin(phi) * e1 + std::cos(phi) * e2; }
+    // v in the frame's coordinates (along e1, e2, axis).
+    Vec3 local(const Vec3& v) const { return Vec3(glm::dot(v, e1), glm::dot(v, e2), glm::dot(v, axis)); }
     // Whether p lies on the axis through `origin` (to 1e-14 of `size`), and whether the unit
     // vector u runs along it: the cases where distances from a point or line are exact.
     bool on_axis(const Vec3& origin, const Vec3& p, double size) const {

@@ -37,8 +37,7 @@ std::optional<SurfaceHit> TorusSurface::intersect(const Ray& ray, double t_min, 
     const Vec3 o = ray.origin + shift * d - m_center;
     const double reach = m_R + m_r;
     if (glm::dot(o, o) >= reach * reach) return std::nullopt;
-    const Vec3 ol(glm::dot(o, m_frame.e1), glm::dot(o, m_frame.e2), glm::dot(o, m_frame.axis));
-    const Vec3 dl(glm::dot(d, m_frame.e1), glm::dot(d, m_frame.e2), glm::dot(d, m_frame.axis));
+    const Vec3 ol = m_frame.local(o), dl = m_frame.local(d);
     const double a = dl.x * dl.x + dl.y * dl.y, b = ol.x * dl.x + ol.y * dl.y, c = ol.x * ol.x + ol.y * ol.y;
     const double k = glm::dot(ol, ol) + (m_R - m_r) * (m_R + m_r), R2 = m_R * m_R;
     const double lo = std::max(-reach, t_min * len - shift), hi = std::min(reach, t_max * len - shift);
@@ -48,10 +47,10 @@ std::optional<SurfaceHit> TorusSurface::intersect(const Ray& ray, double t_min, 
         const double dist = (x + shift) / len;
         if (!(dist > t_min && dist < t_max)) continue;
         const Vec3 p = ol + x * dl;
-        const double rho = std::hypot(p.x, p.y);
-        const auto s = m_angles.param(std::atan2(p.y, p.x));
+        const double rho = std::hypot(p.x, p.y), phi = std::atan2(p.y, p.x);
+        const auto s = m_angles.param(phi);
         if (!s) continue;
-        const Vec3 out = (rho - m_R) * m_frame.radial(std::atan2(p.y, p.x)) + p.z * m_frame.axis;
+        const Vec3 out = (rho - m_R) * m_frame.radial(phi) + p.z * m_frame.axis;
         const bool front = m_orientation * glm::dot(out, ray.dir) < 0.0;
         if (side == HitSide::FrontOnly && !front) continue;
         double v = std::atan2(p.z, rho - m_R) / (2.0 * kPi);

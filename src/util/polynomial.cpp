@@ -16,7 +16,7 @@ double eval(const std::vector<double>& c, double x) {
 // The root of c in [a, b], where c is monotone and c(a), c(b) differ in sign: Newton steps, with
 // a bisection whenever a step would leave the bracket or shrink it too slowly; it stops at
 // adjacent doubles or a step below 1e-15 of the bracket's scale.
-double bisect(const std::vector<double>& c, double a, double b, double fa) {
+double root_between(const std::vector<double>& c, double a, double b, double fa) {
     const double scale = std::max(std::abs(a), std::abs(b)) + (b - a);
     double x = 0.5 * (a + b), width = b - a;
     for (int i = 0; i < 200; ++i) {
@@ -67,7 +67,7 @@ std::vector<double> real_roots(const std::vector<double>& coeffs, double lo, dou
         else if (fb == 0.0 || (fa < 0.0) == (fb < 0.0))
             continue;  // b's root (if any) is found on the next piece
         else
-            x = bisect(c, a, b, fa);
+            x = root_between(c, a, b, fa);
         if (roots.empty() || x > roots.back()) roots.push_back(x);
     }
     if (eval(c, hi) == 0.0 && (roots.empty() || hi > roots.back())) roots.push_back(hi);
