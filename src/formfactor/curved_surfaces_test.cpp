@@ -144,6 +144,40 @@ TEST(CurvedSurfaces, InsideAClosedCanRowsSumToOne) {
     expect_rows_within_estimates(ff, 1e-14);
 }
 
+TEST(CurvedSurfaces, ConeUnderADiskSeesWhatItsRimsBound) {
+    // A disk over an outward cone (base radius 1, height 1), facing down the axis, that sees every
+    // patch of it from the front. The projected solid angle of a surface seen whole depends only
+    // on its boundary, so the cone receives what its base disk would (Howell C-41), its upper half
+    // what the disk of radius 1/2 at height 1/2 would, and a frustum (top radius 0.4) its base
+    // disk's share less its top disk's.
+    auto scene = [](const std::string& lid, double lid_radius, const std::string& top_radius) {
+        return parse_scene("closed: false\nsurfaces:\n" +
+                               disk("lid", lid, "[0, 0, -1]", lid_radius, 0, "[1, 1]") +
+                               "  - {name: cone, type: cone, base: [0, 0, 0], axis: [0, 0, 1], radius: 1, "
+                               "top_radius: " +
+                               top_radius + ", patches: [6, 2], reflectance: [0.5, 0.5, 0.5]}\n",
+                           "cone.yaml");
+    };
+    const Scene cone = scene("[0, 0, 2]", 0.5, "0");
+    const FormFactors ff = adaptive(cone, 1e-10);
+    EXPECT_NEAR(surface_factor(cone, ff, 0, 1), coaxial_disks(0.5, 1.0, 2.0), 1e-8);
+    double upper = 0.0;
+    for (int j = 7; j < 13; ++j) {
+        upper += ff.F(0, j);
+        EXPECT_NEAR(ff.F(0, j), ff.F(0, 7), 1e-10) << j;  // the same for every azimuth
+        EXPECT_LE(err_of(ff, 0, j), 1e-10);
+    }
+    EXPECT_NEAR(upper, coaxial_disks(0.5, 0.5, 1.5), 1e-8);
+    EXPECT_EQ(ff.stats.numeric, 0);
+    // The frustum's generators are steeper: the lid must be smaller and higher to face them all
+    // (a lid of radius 0.5 at height 2 sees the far generators' backs, and takes the numeric path).
+    const Scene frustum = scene("[0, 0, 3]", 0.2, "0.4");
+    const FormFactors fr = adaptive(frustum, 1e-10);
+    EXPECT_NEAR(surface_factor(frustum, fr, 0, 1),
+                coaxial_disks(0.2, 1.0, 3.0) - coaxial_disks(0.2, 0.4, 2.0), 1e-8);
+    EXPECT_EQ(fr.stats.numeric, 0);
+}
+
 TEST(CurvedSurfaces, HemisphereOverItsBaseDisk) {
     // The base sees only the dome (F = 1); the dome sends half its light to the base
     // (A_base / A_dome = 1/2) and half to itself. A dome split 6 x 3, tipped 20 degrees with its

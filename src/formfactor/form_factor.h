@@ -72,7 +72,7 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 6;
+inline constexpr int kFormFactorAlgorithmVersion = 7;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included

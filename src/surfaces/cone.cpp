@@ -98,9 +98,9 @@ std::pair<double, double> FrustumSurface::linear_range(const Vec3& a, double s0,
 
 bool FrustumSurface::patch_contour(double s0, double s1, double t0, double t1,
                                    std::vector<ContourPiece>* out) const {
-    if (m_r0 != m_r1) return false;
-    // (tangent, axis, radial) is right-handed: about the outward normal the boundary runs along
-    // the lower rim in +phi, up at phi1, back along the upper rim, down at phi0.
+    // (tangent, axis, radial) is right-handed: about the outward normal (which a cone tilts
+    // toward its narrow end) the boundary runs along the lower rim in +phi, up the generator at
+    // phi1, back along the upper rim, down at phi0. A rim of radius 0 (the apex) is left out.
     const double p0 = m_angles.at(s0), p1 = m_angles.at(s1);
     const bool ring = m_angles.full() && s0 == 0.0 && s1 == 1.0;
     auto arc = [&](double t, double from, double to) {
@@ -109,7 +109,7 @@ bool FrustumSurface::patch_contour(double s0, double s1, double t0, double t1,
         c.center = m_base + (t * m_length) * m_frame.axis;
         c.e1 = m_frame.e1;
         c.e2 = m_frame.e2;
-        c.radius = m_r0;
+        c.radius = r(t);
         c.from = from;
         c.to = to;
         return c;
@@ -121,9 +121,9 @@ bool FrustumSurface::patch_contour(double s0, double s1, double t0, double t1,
         return c;
     };
     out->clear();
-    out->push_back(arc(t0, p0, p1));
+    if (r(t0) > 0.0) out->push_back(arc(t0, p0, p1));
     if (!ring) out->push_back(generator(s1, t0, t1));
-    out->push_back(arc(t1, p1, p0));
+    if (r(t1) > 0.0) out->push_back(arc(t1, p1, p0));
     if (!ring) out->push_back(generator(s0, t1, t0));
     if (m_orientation < 0.0) {
         std::reverse(out->begin(), out->end());
@@ -158,10 +158,17 @@ double FrustumSurface::max_distance_from_point(const Vec3& p, double s0, double 
 
 bool FrustumSurface::faces_ball(double s0, double s1, double, double, const BoundingSphere& b,
                                 bool back) const {
-    if (m_r0 != m_r1 || (m_orientation < 0.0) != back) return false;
-    // Outside: c . radial(phi) - r_b > R for every azimuth of the patch.
-    const double lo = radial_range(m_frame, b.center - m_base, m_angles.at(s0), m_angles.at(s1)).first;
-    return lo - b.radius > m_r0 * (1.0 + 1e-12);
+    if ((m_orientation < 0.0) != back) return false;
+    // The tangent plane along the generator at azimuth phi holds the whole generator; its outward
+    // normal is h radial(phi) - (r1 - r0) axis, h the height. With d = c - base, the ball lies in
+    // front of every such plane of the patch when, for every azimuth,
+    //   h (d . radial(phi)) - (r1 - r0) (d . axis) - r0 h > r_b |(h, r1 - r0)|
+    // (for a cylinder: d . radial(phi) - r_b > R, outside the tube).
+    const Vec3 d = b.center - m_base;
+    const double lo = radial_range(m_frame, d, m_angles.at(s0), m_angles.at(s1)).first;
+    const double h = m_length, dr = m_r1 - m_r0;
+    const double margin = 1e-12 * std::max({m_r0, m_r1, h}) * h;
+    return h * lo - dr * glm::dot(d, m_frame.axis) - m_r0 * h > b.radius * std::hypot(h, dr) + margin;
 }
 
 void FrustumSurface::write_key(ByteWriter& w) const {

@@ -28,7 +28,7 @@ public:
     bool sees_itself() const override { return m_orientation < 0.0; }
     bool back_segments_escape() const override { return m_orientation < 0.0; }
     bool back_sees_itself() const override { return m_orientation > 0.0; }
-    // Cylinders only (equal radii): the boundary is two arcs and two generators.
+    // Two arcs (one, at an apex) and two straight generators.
     bool patch_contour(double s0, double s1, double t0, double t1,
                        std::vector<ContourPiece>* out) const override;
     // Cylinders only: the infinite cylinder.
@@ -38,7 +38,7 @@ public:
                                   double t1) const override;
     // Exact when p is on the axis: the distance is largest on a rim.
     double max_distance_from_point(const Vec3& p, double s0, double s1, double t0, double t1) const override;
-    // Cylinders only, convex side: outside every patch point's tangent plane.
+    // Convex side: in front of every patch point's tangent plane (one per generator).
     bool faces_ball(double s0, double s1, double t0, double t1, const BoundingSphere& b,
                     bool back) const override;
     bool wraps_in_s() const override { return m_angles.full(); }
