@@ -70,6 +70,13 @@ TEST(CacheCli, SecondRenderHitsAndReportsIt) {
     EXPECT_EQ(j2["form_factor_cache"]["compute_s"], 0.0);
     EXPECT_EQ(j1["closure_max_error"], j2["closure_max_error"]);
     EXPECT_EQ(j1["form_factor_stats"], j2["form_factor_stats"]);
+    // The seed scene's quads and sphere each took time; the cached matrix has no times.
+    const auto& by_type = j1["form_factor_seconds_by_type"];
+    ASSERT_TRUE(by_type.is_object()) << by_type;
+    EXPECT_EQ(by_type.size(), 2u) << by_type;
+    EXPECT_GT(by_type.value("quad", 0.0), 0.0) << by_type;
+    EXPECT_GT(by_type.value("sphere", 0.0), 0.0) << by_type;
+    EXPECT_TRUE(j2["form_factor_seconds_by_type"].is_null());
     r = run({"render", kScene, "-c", kCamA, "-o", (d / "a.png").string(), "--width", "8", "--height", "8",
              "--no-cache", "--report", (d / "3.json").string()});
     ASSERT_EQ(r.code, 0) << r.err;

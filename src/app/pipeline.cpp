@@ -7,10 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "app/report_json.h"
 #include "distribute/cluster.h"
 #include "solve/solver.h"
+#include "surfaces/registry.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
 
@@ -110,6 +114,37 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     return p;
 }
 
+namespace {
+
+// CPU seconds of the pairs per surface type (a pair's time split between its two surfaces'
+// types), in registration order; empty when the matrix was not computed in this run.
+std::vector<std::pair<std::string, double>> seconds_by_type(const Prepared& p) {
+    const std::vector<double>& by_surface = p.ff.stats.seconds_by_surface;
+    std::vector<std::pair<std::string, double>> out;
+    if (by_surface.size() != p.scene.surfaces.size()) return out;
+    for (const SurfaceType* type : surface_types()) {
+        double sum = 0.0;
+        bool present = false;
+        for (std::size_t k = 0; k < by_surface.size(); ++k)
+            if (p.scene.surfaces[k].type == type) {
+                sum += by_surface[k];
+                present = true;
+            }
+        if (present) out.emplace_back(type->name, sum);
+    }
+    return out;
+}
+
+nlohmann::json seconds_by_type_json(const Prepared& p) {
+    const auto by_type = seconds_by_type(p);
+    if (by_type.empty()) return nullptr;
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [name, s] : by_type) j[name] = s;
+    return j;
+}
+
+}  // namespace
+
 void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     using nlohmann::json;
     j["scene_name"] = p.scene.name;
@@ -135,6 +170,7 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
         pairs.push_back({p.geometry.surface_name(x.a), p.geometry.surface_name(x.b)});
     j["surface_intersections"] = pairs;
     j["form_factor_stats"] = form_factor_stats_json(p.ff.stats);
+    j["form_factor_seconds_by_type"] = seconds_by_type_json(p);
     j["form_factor_cache"] = cache_outcome_json(p.cache);
     j["solve_target"] = p.solve_target ? json{{"tolerance", p.solve_target->tolerance},
                                               {"bound", p.solve_target->bound},
@@ -151,6 +187,12 @@ std::string prepared_summary(const Prepared& p) {
                     "form factors", p.form_factors_s, describe(p.options),
                     p.options.visibility ? "on" : "off", st.pairs, st.pairs_culled, st.segment_tests);
     s += fmt::format("  {:<13}    cache {}\n", "", cache_outcome_summary(p.cache));
+    if (const auto by_type = seconds_by_type(p); by_type.size() > 1) {
+        std::string parts;
+        for (const auto& [name, sec] : by_type)
+            parts += fmt::format("{}{} {:.3g} s", parts.empty() ? "" : ", ", name, sec);
+        s += fmt::format("  {:<13}    CPU time by surface type: {}\n", "", parts);
+    }
     if (Cluster::current().distributed() && p.cache.compute_s > 0)
         s += fmt::format("  {:<13}    computed by {} MPI ranks\n", "", Cluster::current().size());
     if (p.scene.closed)

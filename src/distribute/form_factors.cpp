@@ -78,12 +78,14 @@ Order decode(const Bytes& bytes) {
     return o;
 }
 
-// A chunk's result: its counts, then per row i the upper row F(i, i..n-1), the column
-// F(i..n-1, i) and, when error-controlled, the same two of the estimates. Raw doubles: the
-// bits rank 0 stores are the bits this rank computed.
+// A chunk's result: its counts, its seconds per surface, then per row i the upper row F(i, i..n-1), the
+// column F(i..n-1, i) and, when error-controlled, the same two of the estimates. Raw doubles: the bits rank 0
+// stores are the bits this rank computed.
 Bytes pack_rows(const FormFactors& ff, int begin, int end, const FormFactorStats& stats) {
     ByteWriter w;
     stats.for_each_counter([&](const char*, long long v) { w.i64(v); });
+    w.i64(static_cast<std::int64_t>(stats.seconds_by_surface.size()));
+    w.f64_array(stats.seconds_by_surface.data(), stats.seconds_by_surface.size());
     const int n = ff.F.n;
     std::vector<double> col;
     for (int i = begin; i < end; ++i) {
@@ -107,6 +109,11 @@ void unpack_rows(std::span<const std::uint8_t> bytes, int begin, int end, FormFa
     ByteReader r(bytes.data(), bytes.size());
     FormFactorStats add;
     add.for_each_counter([&](const char*, long long& v) { v = r.i64(); });
+    const std::int64_t surfaces = r.i64();
+    if (surfaces < 0 || static_cast<std::uint64_t>(surfaces) > r.remaining() / 8)
+        throw ByteReader::Truncated();
+    add.seconds_by_surface.resize(static_cast<std::size_t>(surfaces));
+    r.f64_array(add.seconds_by_surface.data(), add.seconds_by_surface.size());
     *stats += add;
     const int n = ff->F.n;
     std::vector<double> v;

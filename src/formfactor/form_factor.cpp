@@ -30,6 +30,28 @@ namespace radiosa {
 
 namespace {
 
+// Adds the time between its construction and destruction (one pair's work) to
+// stats->seconds_by_surface, half to each patch's surface.
+class PairClock {
+public:
+    PairClock(const SceneGeometry& g, int i, int j, FormFactorStats* st)
+        : m_si(g.patch(i).surface), m_sj(g.patch(j).surface), m_st(st) {
+        if (st->seconds_by_surface.empty()) st->seconds_by_surface.assign(g.surface_count(), 0.0);
+    }
+    PairClock(const PairClock&) = delete;
+    PairClock& operator=(const PairClock&) = delete;
+    ~PairClock() {
+        const double half = 0.5 * m_clock.seconds();
+        m_st->seconds_by_surface[static_cast<std::size_t>(m_si)] += half;
+        m_st->seconds_by_surface[static_cast<std::size_t>(m_sj)] += half;
+    }
+
+private:
+    Stopwatch m_clock;
+    int m_si, m_sj;
+    FormFactorStats* m_st;
+};
+
 class Integrator {
 public:
     Integrator(const SceneGeometry& g, const FormFactorOptions& o) : m_geo(g), m_opt(o), m_cull(g) {
@@ -91,6 +113,7 @@ public:
         const int n = m_geo.patch_count();
         const double ai = m_geo.patch(i).area;
         for (int j = i; j < n; ++j) {
+            const PairClock clock(m_geo, i, j, st);
             ++st->pairs;
             const bool self = i == j;
             if (self ? m_self_points[i].empty() : culled(i, j)) {
@@ -442,6 +465,7 @@ public:
         const int n = m_geo.patch_count();
         const double tol = m_opt.tolerance;
         for (int j = i; j < n; ++j) {
+            const PairClock clock(m_geo, i, j, st);
             ++st->pairs;
             const bool self = i == j;
             const double ai = m_geo.patch(i).area, aj = m_geo.patch(j).area;
@@ -582,6 +606,10 @@ FormFactorStats& FormFactorStats::operator+=(const FormFactorStats& o) {
     std::size_t k = 0;
     for_each_counter([&](const char*, long long& v) { v += add[k++]; });
     seconds += o.seconds;
+    if (seconds_by_surface.size() < o.seconds_by_surface.size())
+        seconds_by_surface.resize(o.seconds_by_surface.size(), 0.0);
+    for (std::size_t k = 0; k < o.seconds_by_surface.size(); ++k)
+        seconds_by_surface[k] += o.seconds_by_surface[k];
     return *this;
 }
 

@@ -90,6 +90,9 @@ struct FormFactorStats {
     long long regions = 0;         // outer integration regions (refinement effort)
     long long capped = 0;          // integrals that hit the refinement limit before the tolerance
     double seconds = 0.0;          // not stored: equal inputs give byte-identical cache files
+    // CPU seconds spent on the pairs, per surface: each pair's time is split equally between
+    // its two patches' surfaces. Not stored either (empty for a matrix read from the cache).
+    std::vector<double> seconds_by_surface;
 
     // Every counter with its report name, in this order: the report, the cache file and the
     // merge of per-thread counts all use this one list (a new counter is one line here and a
