@@ -8,7 +8,10 @@
 //   build/radiosa_bench --benchmark_filter=FormFactors
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
@@ -105,6 +108,66 @@ void Render_Seed(benchmark::State& state) {
                            benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(Render_Seed)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// A closed box of side 10 holding n balls of radius 0.15 on a grid (a stand-in for scenes/
+// spheres-1k.yaml's geometry), and 65,536 rays from a pinhole camera in one corner.
+struct Balls {
+    explicit Balls(int n) : scene(make(n)), geometry(scene) {
+        const int side = 256;
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                const Vec3 d(1.0, -0.6 + 1.2 * x / side, -0.6 + 1.2 * y / side);
+                rays.push_back(Ray{Vec3(-4.9, 0.0, 0.0), d});
+            }
+    }
+    static Scene make(int n) {
+        std::string s = "closed: true\nsurfaces:\n";
+        const char* faces[6] = {"[[-5, -5, -5], [5, -5, -5], [5, 5, -5], [-5, 5, -5]]",
+                                "[[-5, -5, 5], [-5, 5, 5], [5, 5, 5], [5, -5, 5]]",
+                                "[[-5, -5, -5], [-5, -5, 5], [5, -5, 5], [5, -5, -5]]",
+                                "[[-5, 5, -5], [5, 5, -5], [5, 5, 5], [-5, 5, 5]]",
+                                "[[-5, -5, -5], [-5, 5, -5], [-5, 5, 5], [-5, -5, 5]]",
+                                "[[5, -5, -5], [5, -5, 5], [5, 5, 5], [5, 5, -5]]"};
+        for (int k = 0; k < 6; ++k)
+            s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
+                 ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+        const int g = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(n))));
+        for (int b = 0; b < n; ++b) {
+            const double x = -4 + 8.0 * (b % g) / g, y = -4 + 8.0 * ((b / g) % g) / g,
+                         z = -4 + 8.0 * (b / (g * g)) / g;
+            s += "  - {name: b" + std::to_string(b) + ", type: sphere, center: [" + std::to_string(x) + ", " +
+                 std::to_string(y) + ", " + std::to_string(z) +
+                 "], radius: 0.15, patches: [4, 2], reflectance: [0.5, 0.5, 0.5]}\n";
+        }
+        return parse_scene(s, "balls.yaml");
+    }
+    Scene scene;
+    SceneGeometry geometry;
+    std::vector<Ray> rays;
+};
+
+// args: {balls} x {0 = a loop over every surface, 1 = the BVH (geometry/ray_index.h)}
+void Rays_Balls(benchmark::State& state) {
+    const Balls b(static_cast<int>(state.range(0)));
+    const bool bvh = state.range(1) == 1;
+    benchmark::DoNotOptimize(b.geometry.intersect_front(b.rays[0]));  // builds the index, untimed
+    for (auto _ : state) {
+        int hits = 0;
+        for (const Ray& r : b.rays)
+            hits += (bvh ? b.geometry.intersect_front(r) : b.geometry.intersect_front_by_loop(r)).has_value();
+        benchmark::DoNotOptimize(hits);
+    }
+    state.counters["rays/s"] =
+        benchmark::Counter(static_cast<double>(b.rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(Rays_Balls)
+    ->Args({10, 0})
+    ->Args({10, 1})
+    ->Args({100, 0})
+    ->Args({100, 1})
+    ->Args({1000, 0})
+    ->Args({1000, 1})
+    ->Unit(benchmark::kMillisecond);
 
 // Loading the cached matrix (with every check: sizes, checksum, key, patch table, sense checks).
 void CacheLoad_Seed(benchmark::State& state) {

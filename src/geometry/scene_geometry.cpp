@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
+#include "geometry/ray_index.h"
 #include "scene/scene.h"
 
 namespace radiosa {
 
-SceneGeometry::SceneGeometry(const Scene& scene) {
+SceneGeometry::SceneGeometry(const Scene& scene) : m_index(std::make_shared<LazyIndex>()) {
     Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const auto& desc : scene.surfaces) {
         const int k = static_cast<int>(m_surfaces.size());
@@ -69,7 +71,24 @@ Hit SceneGeometry::locate(int k, double s, double t, double dist) const {
     return h;
 }
 
+struct SceneGeometry::LazyIndex {
+    std::once_flag once;
+    std::unique_ptr<RayIndex> index;
+};
+
 std::optional<Hit> SceneGeometry::intersect_front(const Ray& ray) const {
+    if (surface_count() < kRayIndexMinSurfaces) return intersect_front_by_loop(ray);
+    std::call_once(m_index->once, [&] {
+        std::vector<const Surface*> all;
+        for (const auto& s : m_surfaces) all.push_back(s.get());
+        m_index->index = std::make_unique<RayIndex>(all);
+    });
+    const auto f = m_index->index->nearest_front(ray);
+    if (!f) return std::nullopt;
+    return locate(f->surface, f->hit.s, f->hit.t, f->hit.dist);
+}
+
+std::optional<Hit> SceneGeometry::intersect_front_by_loop(const Ray& ray) const {
     double best = std::numeric_limits<double>::infinity();
     std::optional<Hit> hit;
     for (int k = 0; k < surface_count(); ++k) {

@@ -55,8 +55,13 @@ public:
     double scale() const { return m_scale; }
 
     // The nearest front-facing surface point along the ray (one-sided surfaces: a ray
-    // arriving from behind passes through).
+    // arriving from behind passes through). From kRayIndexMinSurfaces surfaces on, through a
+    // BVH (geometry/ray_index.h, built on the first call); the same hits either way.
     std::optional<Hit> intersect_front(const Ray& ray) const;
+    // Below this many surfaces a loop over them is as fast as the BVH (docs/benchmarks.md).
+    static constexpr int kRayIndexMinSurfaces = 8;
+    // Every surface in turn: the reference the BVH is tested against.
+    std::optional<Hit> intersect_front_by_loop(const Ray& ray) const;
     // A polygon patch's corners, counter-clockwise about its front normal.
     std::array<Vec3, 4> front_polygon(int patch) const;
     // "surface[is,it]": how reports, exports and messages name a patch.
@@ -71,6 +76,9 @@ private:
     std::vector<Patch> m_patches;
     std::vector<BoundingSphere> m_surface_bounds;
     double m_scale = 1.0;
+    // Built once, on the first ray, shared by copies (the surfaces it points to are shared too).
+    struct LazyIndex;
+    std::shared_ptr<LazyIndex> m_index;
 };
 
 }  // namespace radiosa

@@ -1,0 +1,113 @@
+// The BVH finds exactly the hits a loop over every surface finds: the same surface, patch and
+// distance, bit for bit, for rays from inside and outside a scene of every surface type, also
+// when the scene and the camera lie a million units from the origin.
+#include "geometry/ray_index.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "../tests/test_scenes.h"
+#include "geometry/scene_geometry.h"
+
+namespace radiosa {
+
+namespace {
+
+// A box of side 8 (inward quads) holding `balls` small spheres on a grid, a torus, a cone, a
+// two-sided disk, a tube and a curved Bezier sheet, all shifted by `offset`.
+std::string crowded(int balls, double offset) {
+    auto at = [&](double x, double y, double z) {
+        return "[" + std::to_string(x + offset) + ", " + std::to_string(y + offset) + ", " +
+               std::to_string(z + offset) + "]";
+    };
+    auto corners = [&](const double(*c)[3]) {
+        std::string s = "[";
+        for (int k = 0; k < 4; ++k) s += (k ? ", " : "") + at(c[k][0], c[k][1], c[k][2]);
+        return s + "]";
+    };
+    static const double faces[6][4][3] = {{{-4, -4, -4}, {4, -4, -4}, {4, 4, -4}, {-4, 4, -4}},
+                                          {{-4, -4, 4}, {-4, 4, 4}, {4, 4, 4}, {4, -4, 4}},
+                                          {{-4, -4, -4}, {-4, -4, 4}, {4, -4, 4}, {4, -4, -4}},
+                                          {{-4, 4, -4}, {4, 4, -4}, {4, 4, 4}, {-4, 4, 4}},
+                                          {{-4, -4, -4}, {-4, 4, -4}, {-4, 4, 4}, {-4, -4, 4}},
+                                          {{4, -4, -4}, {4, -4, 4}, {4, 4, 4}, {4, 4, -4}}};
+    std::string s;
+    for (int k = 0; k < 6; ++k) s += test::quad("f" + std::to_string(k), corners(faces[k]), 2, 2);
+    const std::string m = ", reflectance: [0.5, 0.5, 0.5]}\n";
+    for (int b = 0; b < balls; ++b) {
+        const double x = -3 + 6.0 * (b % 10) / 9, y = -3 + 6.0 * ((b / 10) % 10) / 9,
+                     z = -3 + 0.6 * (b / 100);
+        s += "  - {name: ball" + std::to_string(b) + ", type: sphere, center: " + at(x, y, z) +
+             ", radius: 0.2, patches: [4, 2]" + m;
+    }
+    s += "  - {name: ring, type: torus, center: " + at(0, 0, 2.5) +
+         ", axis: [0.2, 0.3, 1], major_radius: 1, minor_radius: 0.25, patches: [8, 4]" + m;
+    s += "  - {name: shade, type: cone, base: " + at(2, -2, 2) +
+         ", axis: [0, 0, 0.8], radius: 0.6, top_radius: 0.1, patches: [6, 2], two_sided: true" + m;
+    s += "  - {name: lamp, type: disk, center: " + at(-2, 2, 3) +
+         ", normal: [0, 0, -1], radius: 0.5, patches: [4, 1], two_sided: true" + m;
+    s += "  - {name: tube, type: cylinder, base: " + at(2.5, 2.5, -4) +
+         ", axis: [0, 0, 8], radius: 0.4, patches: [6, 2]" + m;
+    std::string cp;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+            cp += (cp.empty() ? "" : ", ") +
+                  at(-3 + j, -3 + i, 3.2 + 0.3 * ((i == 1 || i == 2) && (j == 1 || j == 2)));
+    s += "  - {name: sheet, type: bezier, control_points: [" + cp + "], patches: [2, 2], two_sided: true" + m;
+    return s;
+}
+
+void expect_same_hits(const SceneGeometry& g, double offset, double far, int rays) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int hits = 0;
+    for (int r = 0; r < rays; ++r) {
+        // Half the rays start inside the box, half on a sphere of radius `far` around it.
+        Vec3 o(u(rng), u(rng), u(rng));
+        Vec3 d(u(rng), u(rng), u(rng));
+        if (r % 2) {
+            o = glm::normalize(o) * far;
+            d = -o + Vec3(3 * u(rng), 3 * u(rng), 3 * u(rng));
+        } else {
+            o *= 3.9;
+        }
+        o += Vec3(offset);
+        const Ray ray{o, d};
+        const auto a = g.intersect_front(ray), b = g.intersect_front_by_loop(ray);
+        ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << r;
+        if (!a) continue;
+        ++hits;
+        EXPECT_EQ(a->surface, b->surface) << "ray " << r;
+        EXPECT_EQ(a->patch, b->patch) << "ray " << r;
+        EXPECT_EQ(a->dist, b->dist) << "ray " << r;
+        EXPECT_EQ(a->s, b->s) << "ray " << r;
+    }
+    EXPECT_GT(hits, rays / 4);  // the one-sided box is entered from outside only where it faces in
+}
+
+}  // namespace
+
+TEST(RayIndex, FindsWhatALoopOverEverySurfaceFinds) {
+    const SceneGeometry g(test::scene_of(crowded(300, 0.0)));
+    ASSERT_GE(g.surface_count(), SceneGeometry::kRayIndexMinSurfaces);
+    expect_same_hits(g, 0.0, 20.0, 4000);
+}
+
+TEST(RayIndex, AFarSceneAndAFarCameraLoseNothing) {
+    // Float has 7 digits: a million units away, only clipping the ray to the scene and taking
+    // it relative to the scene's centre keeps Embree's traversal from missing boxes.
+    const SceneGeometry g(test::scene_of(crowded(100, 1e6)));
+    expect_same_hits(g, 1e6, 1e6, 2000);
+}
+
+TEST(RayIndex, RaysThatMissEverything) {
+    const SceneGeometry g(test::scene_of(crowded(20, 0.0)));
+    EXPECT_FALSE(g.intersect_front(Ray{Vec3(100, 0, 0), Vec3(1, 0, 0)}));    // pointing away
+    EXPECT_FALSE(g.intersect_front(Ray{Vec3(100, 100, 0), Vec3(0, 0, 1)}));  // passing by
+    EXPECT_FALSE(g.intersect_front(Ray{Vec3(0, 0, 0), Vec3(0, 0, 0)}));      // no direction
+}
+
+}  // namespace radiosa
