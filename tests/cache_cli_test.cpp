@@ -77,6 +77,7 @@ TEST(CacheCli, SecondRenderHitsAndReportsIt) {
     EXPECT_GT(by_type.value("quad", 0.0), 0.0) << by_type;
     EXPECT_GT(by_type.value("sphere", 0.0), 0.0) << by_type;
     EXPECT_TRUE(j2["form_factor_seconds_by_type"].is_null());
+    EXPECT_GT(j1.value("peak_memory_mb", 0.0), 1.0);
     r = run({"render", kScene, "-c", kCamA, "-o", (d / "a.png").string(), "--width", "8", "--height", "8",
              "--no-cache", "--report", (d / "3.json").string()});
     ASSERT_EQ(r.code, 0) << r.err;

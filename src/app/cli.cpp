@@ -18,8 +18,10 @@
 #include "distribute/cluster.h"
 #include "distribute/form_factors.h"
 #include "encode/features.h"
+#include "geometry/scene_geometry.h"
 #include "surfaces/registry.h"
 #include "util/error.h"
+#include "util/progress.h"
 
 namespace radiosa {
 
@@ -272,12 +274,25 @@ int run_render(bool no_subcommand, Commands& c, const WarningSink& warn, std::os
     return 0;
 }
 
+// compute_form_factors with a progress bar on `out` (by pairs: rows are uneven).
+ComputeFormFactors computing_with_progress(std::ostream& out) {
+    return [&out](const Scene&, const SceneGeometry& geometry, const FormFactorOptions& options) {
+        const long long n = geometry.patch_count();
+        ProgressBar bar(&out, "form factors", n * (n + 1) / 2);
+        return compute_form_factors(geometry, options, [&bar](long long pairs) { bar.add(pairs); });
+    };
+}
+
 int run_command(const CLI::App& app, Commands& c, const WarningSink& warn, std::ostream& out,
                 std::ostream& err) {
     // In an MPI job, matrices this run computes are shared out among the ranks.
     Cluster& cluster = Cluster::current();
     c.still.form_factors.cache.compute = form_factors_across(cluster, c.still.threads);
     c.formfactors_job.form_factors.cache.compute = form_factors_across(cluster, c.formfactors_job.threads);
+    // In one process on a terminal, a matrix being computed shows its progress.
+    if (!cluster.distributed() && !c.quiet && &err == &std::cerr && ::isatty(2))
+        c.still.form_factors.cache.compute = c.formfactors_job.form_factors.cache.compute =
+            computing_with_progress(err);
     const std::filesystem::path dir = c.cache_dir.dir.empty() ? default_cache_dir() : c.cache_dir.dir;
     if (c.cache_list->parsed()) {
         cache_list(dir, out);

@@ -16,6 +16,7 @@
 #include "solve/solver.h"
 #include "surfaces/registry.h"
 #include "util/error.h"
+#include "util/memory.h"
 #include "util/stopwatch.h"
 
 namespace radiosa {
@@ -171,6 +172,7 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     j["surface_intersections"] = pairs;
     j["form_factor_stats"] = form_factor_stats_json(p.ff.stats);
     j["form_factor_seconds_by_type"] = seconds_by_type_json(p);
+    j["peak_memory_mb"] = peak_memory_mb();
     j["form_factor_cache"] = cache_outcome_json(p.cache);
     j["solve_target"] = p.solve_target ? json{{"tolerance", p.solve_target->tolerance},
                                               {"bound", p.solve_target->bound},

@@ -572,7 +572,8 @@ FormFactors FormFactorRows::zeros() const {
     return ff;
 }
 
-void FormFactorRows::compute(int begin, int end, FormFactors* ff, FormFactorStats* stats) const {
+void FormFactorRows::compute(int begin, int end, FormFactors* ff, FormFactorStats* stats,
+                             const PairProgress& progress) const {
     const bool controlled = m->options.method == FormFactorMethod::Adaptive;
     std::mutex merge;
     // Each task owns whole rows i and writes only F(i, j) and F(j, i) for j >= i, so no two
@@ -584,17 +585,19 @@ void FormFactorRows::compute(int begin, int end, FormFactors* ff, FormFactorStat
                 m->adaptive.row(i, &ff->F, &ff->error, &local);
             else
                 m->integrator.row(i, &ff->F, &local);
+            if (progress) progress(patch_count() - i);
         }
         std::lock_guard lock(merge);
         *stats += local;
     });
 }
 
-FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options) {
+FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options,
+                                 const PairProgress& progress) {
     const Stopwatch clock;
     const FormFactorRows rows(geometry, options);
     FormFactors ff = rows.zeros();
-    rows.compute(0, rows.patch_count(), &ff, &ff.stats);
+    rows.compute(0, rows.patch_count(), &ff, &ff.stats, progress);
     ff.stats.seconds = clock.seconds();
     return ff;
 }

@@ -4,6 +4,7 @@
 //          (n_i . e_ij)(n_j . e_ji) / L^4  ds dt dtheta dphi,
 // n the unnormalised normals dP/ds x dP/dt, e the vector joining the points, L its length,
 // evaluated by a tensor Gauss-Legendre rule with p points per parameter (p^4 terms).
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -132,7 +133,11 @@ struct FormFactors {
     FormFactorStats stats;
 };
 
-FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options);
+// Called with the number of pairs just finished (from any thread): for progress displays.
+using PairProgress = std::function<void(long long pairs)>;
+
+FormFactors compute_form_factors(const SceneGeometry& geometry, const FormFactorOptions& options,
+                                 const PairProgress& progress = {});
 
 // The same computation by ranges of rows, for callers that share the rows out (the distributed
 // path, src/distribute/): compute(b, e) fills, for every row i in [b, e), F(i, j) and F(j, i)
@@ -145,7 +150,8 @@ public:
     ~FormFactorRows();
     int patch_count() const;
     FormFactors zeros() const;  // n x n zeros, areas, options and (error-controlled) estimates
-    void compute(int begin, int end, FormFactors* ff, FormFactorStats* stats) const;
+    void compute(int begin, int end, FormFactors* ff, FormFactorStats* stats,
+                 const PairProgress& progress = {}) const;
 
 private:
     struct Impl;
