@@ -113,6 +113,52 @@ TEST(SequenceCli, PaperSequenceReproducesTable3Structure) {
     fs::remove_all(d);
 }
 
+TEST(SequenceCli, AnIterativeSolverIsWarmStartedAndGivesLUsFrames) {
+    // 12 frames of a light ramp: with --solver gauss-seidel every new light state is
+    // "iterated", each from the last one's radiosities, and costs fewer sweeps than the first
+    // (which starts from the emission); the frames are LU's.
+    const fs::path d = fresh_dir("radiosa_seq_iterated");
+    const fs::path seq = write_sequence(d, 24, 0.5);
+    auto render = [&](const std::string& solver, const std::string& tag) {
+        return run({"render", "--sequence", seq.string(), "-o", (d / (tag + "%d.png")).string(), "--width",
+                    "48", "--height", "48", "--samples", "1", "--solver", solver, "--report",
+                    (d / (tag + ".json")).string(), "--cache-dir", (d / "cache").string()});
+    };
+    CliRun r = render("lu", "lu");
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = render("gauss-seidel", "gs");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = read_json(d / "gs.json");
+    const auto& f = j["frames"];
+    ASSERT_EQ(f.size(), 12u);
+    EXPECT_EQ(f[0]["solve"], "iterated");
+    const int first = f[0]["sweeps"].get<int>();
+    EXPECT_GT(first, 5);
+    int iterated = 0;
+    for (std::size_t k = 1; k < f.size(); ++k) {
+        if (f[k]["solve"] == "reused") {
+            EXPECT_EQ(f[k]["sweeps"], 0) << k;
+            continue;
+        }
+        EXPECT_EQ(f[k]["solve"], "iterated") << k;
+        EXPECT_LT(f[k]["sweeps"].get<int>(), first) << k;  // warm-started
+        ++iterated;
+    }
+    EXPECT_GE(iterated, 5);
+    EXPECT_EQ(read_json(d / "lu.json")["frames"][0]["solve"], "factorised");
+    EXPECT_LT(j["solve"]["residual"].get<double>(), 1e-11);
+    for (int k : {0, 6, 11}) {
+        const Image a = media::read_image((d / ("lu" + std::to_string(k) + ".png")).string());
+        const Image b = media::read_image((d / ("gs" + std::to_string(k) + ".png")).string());
+        ASSERT_EQ(a.rgb.size(), b.rgb.size());
+        double worst = 0.0;
+        for (std::size_t i = 0; i < a.rgb.size(); ++i)
+            worst = std::max(worst, static_cast<double>(std::abs(a.rgb[i] - b.rgb[i])));
+        EXPECT_LE(worst, 1.0 / 255 + 1e-9) << "frame " << k;
+    }
+    fs::remove_all(d);
+}
+
 // A frame produced by the scheduler (substitution into a kept factorisation, shared nodes,
 // encoder thread) has exactly the pixels of the same frame computed from scratch, for any
 // thread count.

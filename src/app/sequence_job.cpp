@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <exception>
+#include <map>
 #include <memory>
 #include <thread>
 
@@ -227,7 +228,15 @@ private:
         const Stopwatch clock;
         // The factorisation ran in build_solvers; it is charged to the frame that first uses it.
         if (fp.solve == SolveAction::Factorised) rec.solve_s += solver.factorise_seconds();
-        m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E);
+        // An iterative solver starts from the last answer for the same reflectance: nearby
+        // lights, nearby radiosities.
+        const auto warm = m_last_of_set.find(fp.reflectance_set);
+        const std::vector<Rgb>* start = fp.solve == SolveAction::Iterated && warm != m_last_of_set.end()
+                                            ? &m_solutions[warm->second]
+                                            : nullptr;
+        m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E, start);
+        m_last_of_set[fp.reflectance_set] = fp.solution;
+        rec.sweeps = solver.last_iterations();
         m_r->channel_solves += solver.last_channel_solves();
         rec.solve_s += clock.seconds();
         m_r->sensor_irradiance.resize(m_plan.solutions.size());
@@ -286,6 +295,7 @@ private:
     const Plan& m_plan;
     SequenceReport* m_r;
     std::vector<std::vector<Rgb>> m_solutions;
+    std::map<int, int> m_last_of_set;  // reflectance set -> the solution solved for it last
     std::unique_ptr<NodeRadiosity> m_nodes;
     int m_nodes_solution = -1;
     std::shared_ptr<const Image> m_image;
@@ -335,7 +345,7 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
             seq = read_sequence(job, p.scene, &r.render);
         }));
     const Prepared& p = *r.prep;
-    const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry);
+    const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry, is_iterative(job.solver));
     r.fps = seq->fps;
     r.frames.resize(plan.frames.size());
     for (std::size_t f = 0; f < r.frames.size(); ++f) r.frames[f].plan = plan.frames[f];
@@ -425,6 +435,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                           {"rank", f.rank},
                           {"form_factors_s", f.form_factors_s},
                           {"solve_s", f.solve_s},
+                          {"sweeps", f.sweeps},
                           {"render_s", f.render_s},
                           {"encode_s", f.encode_s},
                           {"sensors", sensors}});

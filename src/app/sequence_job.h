@@ -42,6 +42,7 @@ struct FrameRecord {
     const char* form_factors = "reused";  // computed | cached | reused
     int rank = 0;                         // the MPI rank that rendered it (0: one process)
     double form_factors_s = 0, solve_s = 0, render_s = 0, encode_s = 0;
+    int sweeps = 0;  // an iterative solve's sweeps (max over channels); 0 for direct solves and reuse
 };
 
 struct SequenceReport {

@@ -10,6 +10,8 @@ const char* solve_action_name(SolveAction a) {
             return "factorised";
         case SolveAction::Substituted:
             return "substituted";
+        case SolveAction::Iterated:
+            return "iterated";
         case SolveAction::Reused:
             return "reused";
     }
@@ -27,7 +29,8 @@ int Plan::renders() const {
         frames.begin(), frames.end(), [](const FramePlan& f) { return f.render == RenderAction::Rendered; }));
 }
 
-Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeometry& geometry) {
+Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeometry& geometry,
+                   bool iterative) {
     Plan plan;
     for (int f = 0; f < seq.frames; ++f) {
         FramePlan fp;
@@ -46,7 +49,9 @@ Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeomet
         fp.solution = static_cast<int>(sol - plan.solutions.begin());
         if (sol == plan.solutions.end()) {
             plan.solutions.push_back(std::move(m));
-            fp.solve = new_rho ? SolveAction::Factorised : SolveAction::Substituted;
+            fp.solve = iterative ? SolveAction::Iterated
+                       : new_rho ? SolveAction::Factorised
+                                 : SolveAction::Substituted;
         } else {
             fp.solve = SolveAction::Reused;
         }

@@ -3,15 +3,18 @@
 // frame already has. Geometry never changes within a sequence, so the form-factor matrix is
 // obtained once (from the cache or by computing it); a factorisation of (I - diag(rho) F) is
 // made once per distinct reflectance set; a substitution once per distinct (reflectance,
-// emission); a render whenever the camera or the radiosities differ from the previous frame,
-// otherwise the previous frame is copied.
+// emission) — or, with an iterative solver, one warm-started iteration per distinct state; a
+// render whenever the camera or the radiosities differ from the previous frame, otherwise the
+// previous frame is copied.
 #include <vector>
 
 #include "schedule/sequence.h"
 
 namespace radiosa {
 
-enum class SolveAction { Factorised, Substituted, Reused };
+// Iterated: an iterative solver's run (--solver jacobi | gauss-seidel | southwell), warm-started
+// from the last solution with the same reflectance.
+enum class SolveAction { Factorised, Substituted, Iterated, Reused };
 enum class RenderAction { Rendered, Copied };
 const char* solve_action_name(SolveAction a);
 const char* render_action_name(RenderAction a);
@@ -35,7 +38,9 @@ struct Plan {
     int renders() const;
 };
 
-Plan plan_sequence(const Sequence& sequence, const Materials& base, const SceneGeometry& geometry);
+// `iterative`: the solver iterates, so every new state is Iterated (nothing is factorised).
+Plan plan_sequence(const Sequence& sequence, const Materials& base, const SceneGeometry& geometry,
+                   bool iterative = false);
 
 bool same_camera(const CameraDesc& a, const CameraDesc& b);
 

@@ -27,6 +27,9 @@ SolverMethod parse_solver_method(
     const std::string& name);  // lu | gauss-jordan | jacobi | gauss-seidel | southwell
 const char* solver_method_name(SolverMethod m);
 
+// Jacobi, Gauss-Seidel, Southwell: no factorisation; a start vector helps.
+bool is_iterative(SolverMethod m);
+
 class RadiositySolver {
 public:
     RadiositySolver(const DenseMatrix& F, const std::vector<Rgb>& rho, SolverMethod method);
@@ -34,7 +37,9 @@ public:
     RadiositySolver(const RadiositySolver&) = delete;
     RadiositySolver& operator=(const RadiositySolver&) = delete;
 
-    std::vector<Rgb> solve(const std::vector<Rgb>& E) const;
+    // `start`: for the iterative methods, the first iterate (a warm start: the radiosities for
+    // nearby lights); the direct methods ignore it. Same stopping rule either way.
+    std::vector<Rgb> solve(const std::vector<Rgb>& E, const std::vector<Rgb>* start = nullptr) const;
 
     // Channels with identical reflectance share one factorisation.
     int factorisations() const;
