@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../tests/test_scenes.h"
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
@@ -122,15 +123,7 @@ struct Balls {
     }
     static Scene make(int n) {
         std::string s = "closed: true\nsurfaces:\n";
-        const char* faces[6] = {"[[-5, -5, -5], [5, -5, -5], [5, 5, -5], [-5, 5, -5]]",
-                                "[[-5, -5, 5], [-5, 5, 5], [5, 5, 5], [5, -5, 5]]",
-                                "[[-5, -5, -5], [-5, -5, 5], [5, -5, 5], [5, -5, -5]]",
-                                "[[-5, 5, -5], [5, 5, -5], [5, 5, 5], [-5, 5, 5]]",
-                                "[[-5, -5, -5], [-5, 5, -5], [-5, 5, 5], [-5, -5, 5]]",
-                                "[[5, -5, -5], [5, -5, 5], [5, 5, 5], [5, 5, -5]]"};
-        for (int k = 0; k < 6; ++k)
-            s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
-                 ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+        s += test::cube_faces(5);
         const int g = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(n))));
         for (int b = 0; b < n; ++b) {
             const double x = -4 + 8.0 * (b % g) / g, y = -4 + 8.0 * ((b / g) % g) / g,

@@ -18,6 +18,32 @@ inline Scene scene_of(const std::string& surfaces, bool closed = false) {
                        "test.yaml");
 }
 
+// The six faces of the cube [-h, h]^3 shifted by `offset` along every axis, facing in, as YAML list
+// items f0..f5 (at -z, +z, -y, +y, -x, +x) of `patches` x `patches` each; `extra` goes inside each
+// item's braces.
+inline std::string cube_faces(double h, double offset = 0.0, int patches = 1,
+                              const std::string& extra = ", reflectance: [0.5, 0.5, 0.5]") {
+    // Corner signs, counter-clockwise about each face's inward normal.
+    static const int sign[6][4][3] = {{{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}},
+                                      {{-1, -1, 1}, {-1, 1, 1}, {1, 1, 1}, {1, -1, 1}},
+                                      {{-1, -1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, -1, -1}},
+                                      {{-1, 1, -1}, {1, 1, -1}, {1, 1, 1}, {-1, 1, 1}},
+                                      {{-1, -1, -1}, {-1, 1, -1}, {-1, 1, 1}, {-1, -1, 1}},
+                                      {{1, -1, -1}, {1, -1, 1}, {1, 1, 1}, {1, 1, -1}}};
+    std::string s;
+    for (int k = 0; k < 6; ++k) {
+        std::string c = "[";
+        for (int v = 0; v < 4; ++v) {
+            c += v ? ", [" : "[";
+            for (int a = 0; a < 3; ++a) c += (a ? ", " : "") + std::to_string(offset + sign[k][v][a] * h);
+            c += "]";
+        }
+        s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + c + "], patches: [" +
+             std::to_string(patches) + ", " + std::to_string(patches) + "]" + extra + "}\n";
+    }
+    return s;
+}
+
 // Unit square in z = 0 facing +z, and its opposite at z = 1 facing -z.
 inline const char* kFloor = "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]";
 inline const char* kCeiling = "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]";

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "../tests/test_scenes.h"
 #include "formfactor/form_factor.h"
 #include "formfactor/sensor.h"
 #include "geometry/scene_geometry.h"
@@ -64,21 +65,8 @@ void expect_rows_within_estimates(const FormFactors& ff, double slack) {
 }
 
 // The six inward faces f0..f5 of the cube [-h, h]^3, one patch each, `extra` added to each.
-std::string box_faces(const std::string& h, const std::string& extra = "") {
-    static const char* faces[6] = {"[[-H, -H, -H], [H, -H, -H], [H, H, -H], [-H, H, -H]]",
-                                   "[[-H, -H, H], [-H, H, H], [H, H, H], [H, -H, H]]",
-                                   "[[-H, -H, -H], [-H, -H, H], [H, -H, H], [H, -H, -H]]",
-                                   "[[-H, H, -H], [H, H, -H], [H, H, H], [-H, H, H]]",
-                                   "[[-H, -H, -H], [-H, H, -H], [-H, H, H], [-H, -H, H]]",
-                                   "[[H, -H, -H], [H, -H, H], [H, H, H], [H, H, -H]]"};
-    std::string s;
-    for (int k = 0; k < 6; ++k) {
-        std::string c;
-        for (const char* q = faces[k]; *q; ++q) c += *q == 'H' ? h : std::string(1, *q);
-        s += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + c +
-             ", patches: [1, 1], reflectance: [0.5, 0.5, 0.5]" + extra + "}\n";
-    }
-    return s;
+std::string box_faces(double h, const std::string& extra = "") {
+    return test::cube_faces(h, 0.0, 1, ", reflectance: [0.5, 0.5, 0.5]" + extra);
 }
 
 std::string disk(const std::string& name, const std::string& center, const std::string& normal, double r,
@@ -225,7 +213,7 @@ TEST(CurvedSurfaces, ARotatedSphereKeepsItsPatchesInPlace) {
     // A sphere split 8 x 4 in a box, the whole scene turned 30 degrees about (1, 1, 0): the
     // sphere's patches turn with it, and every factor stays.
     auto scene_text = [](const std::string& xf) {
-        std::string s = "surfaces:\n" + box_faces("2", xf);
+        std::string s = "surfaces:\n" + box_faces(2, xf);
         s += "  - {name: ball, type: sphere, center: [0.3, 0.2, -0.1], radius: 1, patches: [8, 4], "
              "reflectance: [0.5, 0.5, 0.5]" +
              xf + "}\n";
@@ -240,7 +228,7 @@ TEST(CurvedSurfaces, ARotatedSphereKeepsItsPatchesInPlace) {
 }
 
 TEST(CurvedSurfaces, TwoSidedDiskInABoxCloses) {
-    std::string s = "surfaces:\n" + box_faces("1");
+    std::string s = "surfaces:\n" + box_faces(1);
     s +=
         "  - {name: plate, type: disk, center: [0, 0, 0.2], normal: [0, 0, 1], radius: 0.5, patches: [1, 1], "
         "reflectance: [0.8, 0.8, 0.8], two_sided: true, back_reflectance: [0.1, 0.2, 0.3]}\n";
@@ -286,7 +274,7 @@ TEST(CurvedSurfaces, FlatBezierPatchMatchesTheParallelSquares) {
 
 TEST(CurvedSurfaces, TorusInABoxCloses) {
     // A ring that sees itself (its inner half) and blocks itself: the numeric path throughout.
-    std::string s = "surfaces:\n" + box_faces("2");
+    std::string s = "surfaces:\n" + box_faces(2);
     s += "  - {name: ring, type: torus, center: [0, 0, 0], axis: [0, 0.3, 1], major_radius: 1, minor_radius: "
          "0.3, "
          "patches: [4, 2], reflectance: [0.5, 0.5, 0.5]}\n";

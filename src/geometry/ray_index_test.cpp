@@ -23,19 +23,7 @@ std::string crowded(int balls, double offset) {
         return "[" + std::to_string(x + offset) + ", " + std::to_string(y + offset) + ", " +
                std::to_string(z + offset) + "]";
     };
-    auto corners = [&](const double(*c)[3]) {
-        std::string s = "[";
-        for (int k = 0; k < 4; ++k) s += (k ? ", " : "") + at(c[k][0], c[k][1], c[k][2]);
-        return s + "]";
-    };
-    static const double faces[6][4][3] = {{{-4, -4, -4}, {4, -4, -4}, {4, 4, -4}, {-4, 4, -4}},
-                                          {{-4, -4, 4}, {-4, 4, 4}, {4, 4, 4}, {4, -4, 4}},
-                                          {{-4, -4, -4}, {-4, -4, 4}, {4, -4, 4}, {4, -4, -4}},
-                                          {{-4, 4, -4}, {4, 4, -4}, {4, 4, 4}, {-4, 4, 4}},
-                                          {{-4, -4, -4}, {-4, 4, -4}, {-4, 4, 4}, {-4, -4, 4}},
-                                          {{4, -4, -4}, {4, -4, 4}, {4, 4, 4}, {4, 4, -4}}};
-    std::string s;
-    for (int k = 0; k < 6; ++k) s += test::quad("f" + std::to_string(k), corners(faces[k]), 2, 2);
+    std::string s = test::cube_faces(4, offset, 2);
     const std::string m = ", reflectance: [0.5, 0.5, 0.5]}\n";
     for (int b = 0; b < balls; ++b) {
         const double x = -3 + 6.0 * (b % 10) / 9, y = -3 + 6.0 * ((b / 10) % 10) / 9,
