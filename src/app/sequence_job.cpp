@@ -5,7 +5,6 @@
 
 #include <atomic>
 #include <exception>
-#include <map>
 #include <memory>
 #include <thread>
 
@@ -173,7 +172,12 @@ std::vector<std::unique_ptr<RadiositySolver>> build_solvers(const SequenceJob& j
 class FrameLoop {
 public:
     FrameLoop(const SequenceJob& job, const Prepared& p, const Plan& plan, SequenceReport* r)
-        : m_job(job), m_p(p), m_plan(plan), m_r(r), m_solutions(plan.solutions.size()) {}
+        : m_job(job),
+          m_p(p),
+          m_plan(plan),
+          m_r(r),
+          m_solutions(plan.solutions.size()),
+          m_last_of_set(plan.reflectances.size(), -1) {}
 
     void run(std::vector<std::unique_ptr<RadiositySolver>>& solvers, EncoderThread& encoder,
              SequenceKept* kept) {
@@ -230,10 +234,9 @@ private:
         if (fp.solve == SolveAction::Factorised) rec.solve_s += solver.factorise_seconds();
         // An iterative solver starts from the last answer for the same reflectance: nearby
         // lights, nearby radiosities.
-        const auto warm = m_last_of_set.find(fp.reflectance_set);
-        const std::vector<Rgb>* start = fp.solve == SolveAction::Iterated && warm != m_last_of_set.end()
-                                            ? &m_solutions[warm->second]
-                                            : nullptr;
+        const int warm = m_last_of_set[fp.reflectance_set];
+        const std::vector<Rgb>* start =
+            fp.solve == SolveAction::Iterated && warm >= 0 ? &m_solutions[warm] : nullptr;
         m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E, start);
         m_last_of_set[fp.reflectance_set] = fp.solution;
         rec.sweeps = solver.last_iterations();
@@ -295,7 +298,7 @@ private:
     const Plan& m_plan;
     SequenceReport* m_r;
     std::vector<std::vector<Rgb>> m_solutions;
-    std::map<int, int> m_last_of_set;  // reflectance set -> the solution solved for it last
+    std::vector<int> m_last_of_set;  // per reflectance set, the solution solved for it last (-1: none)
     std::unique_ptr<NodeRadiosity> m_nodes;
     int m_nodes_solution = -1;
     std::shared_ptr<const Image> m_image;
