@@ -85,56 +85,57 @@ bool Culling::slab_separates(const Patch& pi, const Patch& pj, int k) const {
     return false;
 }
 
+bool Culling::can_block(int i, int j, int k) const {
+    const Patch& pi = m_geo.patch(i);
+    const Patch& pj = m_geo.patch(j);
+    const Surface& s = m_geo.surface(k);
+    const bool on_i = pi.surface == k, on_j = pj.surface == k;
+    // The other side of a patch's own surface: the same geometry, which the segment leaves
+    // from its back.
+    const bool back_i = m_geo.twin(k) >= 0 && m_geo.twin(k) == pi.surface,
+               back_j = m_geo.twin(k) >= 0 && m_geo.twin(k) == pj.surface;
+    if ((on_i || back_i) && (on_j || back_j)) {
+        if (s.chords_never_cross()) return false;
+    } else if (on_i || on_j) {
+        if (s.front_segments_escape()) return false;
+    } else if (back_i || back_j) {
+        if (s.back_segments_escape()) return false;
+    }
+    if (auto pl = s.plane()) {
+        // A segment between points on one closed side of a plane cannot cross it.
+        const auto ei = extent(m_geo, pi, *pl), ej = extent(m_geo, pj, *pl);
+        if ((ei.first >= -m_eps && ej.first >= -m_eps) || (ei.second <= m_eps && ej.second <= m_eps))
+            return false;
+    }
+    // Every point of a segment between the patches lies within `reach` of the segment between
+    // their bounding centres.
+    const double reach = std::max(pi.bound.radius, pj.bound.radius);
+    const BoundingSphere& b = m_geo.surface_bound(k);
+    if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach) return false;
+    const bool own = on_i || on_j || back_i || back_j;
+    if (own) return true;
+    if (slab_separates(pi, pj, k)) return false;
+    return !(pi.polygon && pj.polygon && hull_misses(pi, pj, s));
+}
+
 // Surfaces that might block a segment between the two patches; the rest are proven
 // unable to and skip the per-point tests.
 void Culling::occluders(int i, int j, bool culling, std::vector<int>* out, FormFactorStats* st) const {
     out->clear();
-    const Patch& pi = m_geo.patch(i);
-    const Patch& pj = m_geo.patch(j);
-    const double reach = std::max(pi.bound.radius, pj.bound.radius);
     for (int k = 0; k < m_geo.surface_count(); ++k) {
-        const Surface& s = m_geo.surface(k);
         ++st->occluder_checks;
-        const bool on_i = pi.surface == k, on_j = pj.surface == k;
-        // The other side of a patch's own surface: the same geometry, which the segment leaves
-        // from its back.
-        const bool back_i = m_geo.twin(k) >= 0 && m_geo.twin(k) == pi.surface,
-                   back_j = m_geo.twin(k) >= 0 && m_geo.twin(k) == pj.surface;
-        bool can_block = true;
         if (!culling) {
             out->push_back(k);
             continue;
         }
-        if ((on_i || back_i) && (on_j || back_j))
-            can_block = !s.chords_never_cross();
-        else if (on_i || on_j)
-            can_block = !s.front_segments_escape();
-        else if (back_i || back_j)
-            can_block = !s.back_segments_escape();
-        if (can_block)
-            if (auto pl = s.plane()) {
-                // A segment between points on one closed side of a plane cannot cross it.
-                const auto ei = extent(m_geo, pi, *pl), ej = extent(m_geo, pj, *pl);
-                if ((ei.first >= -m_eps && ej.first >= -m_eps) || (ei.second <= m_eps && ej.second <= m_eps))
-                    can_block = false;
-            }
-        if (can_block) {
-            // Every point of a segment between the patches lies within `reach` of the
-            // segment between their bounding centres.
-            const BoundingSphere& b = m_geo.surface_bound(k);
-            if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach)
-                can_block = false;
-        }
-        const bool own = on_i || on_j || back_i || back_j;
-        if (can_block && !own && slab_separates(pi, pj, k)) can_block = false;
-        if (can_block && pi.polygon && pj.polygon && !own) can_block = !hull_misses(pi, pj, s);
+        const bool blocks = can_block(i, j, k);
         // The two sides of a two-sided surface are one set of points: a segment crosses both or
         // neither, so a back side (listed right after its front) is not tested again.
         const bool front_listed =
             m_geo.twin(k) >= 0 && m_geo.twin(k) < k && !out->empty() && out->back() == m_geo.twin(k);
-        if (can_block && !front_listed)
+        if (blocks && !front_listed)
             out->push_back(k);
-        else if (!can_block)
+        else if (!blocks)
             ++st->occluders_culled;
     }
     if (out->empty()) ++st->pairs_unoccluded;

@@ -17,6 +17,8 @@ public:
     // in the plane of the other (this covers patches of one planar surface), or both are
     // patches of one surface that cannot see itself.
     bool culled(int i, int j) const;
+    // False when surface k is proven unable to block any segment between the two patches.
+    bool can_block(int i, int j, int k) const;
     // Surfaces that might block a segment between the two patches (every surface when
     // culling is off); the rest are proven unable to.
     void occluders(int i, int j, bool culling, std::vector<int>* out, FormFactorStats* st) const;

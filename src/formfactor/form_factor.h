@@ -73,7 +73,7 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 7;
+inline constexpr int kFormFactorAlgorithmVersion = 8;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included
@@ -152,8 +152,15 @@ public:
     FormFactors zeros() const;  // n x n zeros, areas, options and (error-controlled) estimates
     void compute(int begin, int end, FormFactors* ff, FormFactorStats* stats,
                  const PairProgress& progress = {}) const;
+    // Only the listed pairs: pairs[i] holds the j >= i whose F(i, j), F(j, i) (and estimates)
+    // are computed anew, each exactly as compute() computes it; every other entry is left as it
+    // is (incremental updates, formfactor/incremental.h).
+    void compute_pairs(const std::vector<std::vector<int>>& pairs, FormFactors* ff,
+                       FormFactorStats* stats) const;
 
 private:
+    void compute_rows(int begin, int end, const std::vector<std::vector<int>>* pairs, FormFactors* ff,
+                      FormFactorStats* stats, const PairProgress& progress) const;
     struct Impl;
     std::unique_ptr<Impl> m;
 };
