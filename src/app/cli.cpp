@@ -235,6 +235,7 @@ SequenceJob sequence_job(const Commands& c, const WarningSink& warn, std::ostrea
     if (c.render->count("--samples")) sj.samples = job.render.samples;
     sj.form_factors = job.form_factors;
     sj.solver = job.solver;
+    sj.solver_given = c.render->count("--solver") > 0;
     sj.exposure = job.exposure;
     sj.crf = c.sequence.crf;
     sj.palette = c.sequence.palette;

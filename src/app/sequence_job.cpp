@@ -8,6 +8,7 @@
 #include <memory>
 #include <thread>
 
+#include "app/geometry_states.h"
 #include "app/pipeline.h"
 #include "app/report_json.h"
 #include "distribute/cluster.h"
@@ -147,53 +148,43 @@ struct SequenceKept {
     }
 };
 
-// Every factorisation the plan needs, before any frame is written, so that a system with no
-// steady state is refused with nothing on disk.
-std::vector<std::unique_ptr<RadiositySolver>> build_solvers(const SequenceJob& job, const Prepared& p,
-                                                            const Plan& plan, SequenceReport* r) {
-    std::vector<std::unique_ptr<RadiositySolver>> solvers;
-    for (const auto& rho : plan.reflectances) {
-        solvers.push_back(std::make_unique<RadiositySolver>(p.ff.F, rho, job.solver));
-        r->factorisations += solvers.back()->factorisations();
-        r->stability.add(*solvers.back());
-    }
-    std::string last_warning;
-    for (const auto& fp : plan.frames) {
-        if (fp.solve == SolveAction::Reused) continue;
-        const std::string w =
-            check_steady_state(*solvers[fp.reflectance_set], plan.reflectances[fp.reflectance_set],
-                               plan.solutions[fp.solution].E, p.scene.closed, job.sequence_path);
-        if (!w.empty() && w != last_warning) job.warn(last_warning = w);
-    }
-    return solvers;
-}
-
 // Renders (or copies) every frame as planned and hands it to the outputs.
 class FrameLoop {
 public:
-    FrameLoop(const SequenceJob& job, const Prepared& p, const Plan& plan, SequenceReport* r)
+    FrameLoop(const SequenceJob& job, const Prepared& p, const Plan& plan, const Sequence& seq,
+              SequenceReport* r)
         : m_job(job),
           m_p(p),
           m_plan(plan),
           m_r(r),
+          m_states(p, plan, seq, job.form_factors, job.warn),
+          m_solvers(plan.reflectances.size()),
           m_solutions(plan.solutions.size()),
           m_last_of_set(plan.reflectances.size(), -1) {}
 
-    void run(std::vector<std::unique_ptr<RadiositySolver>>& solvers, EncoderThread& encoder,
-             SequenceKept* kept) {
+    // Every factorisation a geometry state needs, before its first frame is written: a system
+    // with no steady state is refused with nothing of it on disk (nothing at all without motion).
+    void enter_first() { enter(m_r->frames[0]); }
+
+    void run(EncoderThread& encoder, SequenceKept* kept) {
         for (std::size_t f = 0; f < m_r->frames.size(); ++f) {
             FrameRecord& rec = m_r->frames[f];
-            solve(rec, *solvers[rec.plan.reflectance_set]);
+            enter(rec);
+            solve(rec, *m_solvers[static_cast<std::size_t>(rec.plan.reflectance_set)]);
             render(rec);
             deliver(f, encoder, kept);
+            leave(static_cast<int>(f));
         }
     }
     // The same frames with an MPI job's ranks rendering (src/distribute/frames.h): every state
     // is solved here first, as run() solves it, then the frames to render are shared out and
     // come back in order; copies are made here.
-    void run_across(Cluster& cluster, std::vector<std::unique_ptr<RadiositySolver>>& solvers,
-                    EncoderThread& encoder, SequenceKept* kept) {
-        for (FrameRecord& rec : m_r->frames) solve(rec, *solvers[rec.plan.reflectance_set]);
+    // Only without motion: the other ranks place the surfaces as the scene file does.
+    void run_across(Cluster& cluster, EncoderThread& encoder, SequenceKept* kept) {
+        for (FrameRecord& rec : m_r->frames) {
+            enter(rec);
+            solve(rec, *m_solvers[static_cast<std::size_t>(rec.plan.reflectance_set)]);
+        }
         FrameOrder order{m_p.scene.file, m_job.threads, m_r->render, {}, {}};
         for (std::size_t s = 0; s < m_solutions.size(); ++s)
             order.states.push_back({m_solutions[s], m_plan.solutions[s].E});
@@ -226,35 +217,95 @@ public:
     }
 
 private:
+    const GeometryState& state() const { return m_states.state(m_current); }
+
+    // The frame's geometry state: its form factors (recorded on the frame that obtained them)
+    // and the factorisations of its reflectance sets.
+    void enter(FrameRecord& rec) {
+        const int g = rec.plan.geometry;
+        if (g == m_current) return;
+        bool obtained = false;
+        const GeometryState& st = m_states.enter(g, &obtained);
+        m_current = g;
+        m_nodes.reset();
+        m_nodes_solution = -1;
+        if (!obtained) return;
+        if (st.update) {
+            rec.form_factors = "updated";
+            rec.update = st.update;
+            rec.entries_recomputed = st.update->entries_recomputed;
+        } else if (std::string_view(st.source) == "cached") {
+            rec.form_factors = "cached";
+        }
+        rec.form_factors_s += st.seconds;
+        if (m_p.scene.closed)
+            m_r->closure_max_error_over_states =
+                std::max(m_r->closure_max_error_over_states, st.checks.closure_max_error);
+        build_solvers(g);
+    }
+    void build_solvers(int g) {
+        for (std::size_t rs = 0; rs < m_plan.reflectances.size(); ++rs) {
+            if (m_plan.reflectance_geometry[rs] != g || m_solvers[rs]) continue;
+            m_solvers[rs] =
+                std::make_unique<RadiositySolver>(state().ff->F, m_plan.reflectances[rs], m_r->solver);
+            m_r->factorisations += m_solvers[rs]->factorisations();
+            m_r->stability.add(*m_solvers[rs]);
+        }
+        for (const auto& fp : m_plan.frames) {
+            if (fp.solve == SolveAction::Reused || fp.geometry != g) continue;
+            const auto rs = static_cast<std::size_t>(fp.reflectance_set);
+            const std::string w =
+                check_steady_state(*m_solvers[rs], m_plan.reflectances[rs], m_plan.solutions[fp.solution].E,
+                                   m_p.scene.closed, m_job.sequence_path);
+            if (!w.empty() && w != m_last_warning) m_job.warn(m_last_warning = w);
+        }
+    }
+    // After frame f: a geometry state whose last frame it was is let go, with its solvers.
+    void leave(int f) {
+        const int g = m_r->frames[static_cast<std::size_t>(f)].plan.geometry;
+        if (m_plan.last_frame_of_geometry[static_cast<std::size_t>(g)] != f) return;
+        for (std::size_t rs = 0; rs < m_solvers.size(); ++rs)
+            if (m_plan.reflectance_geometry[rs] == g) m_solvers[rs].reset();
+        m_nodes.reset();
+        m_nodes_solution = -1;
+        m_states.release(g);
+        m_current = -1;
+    }
+
     void solve(FrameRecord& rec, const RadiositySolver& solver) {
         const FramePlan& fp = rec.plan;
         if (fp.solve == SolveAction::Reused) return;
         const Stopwatch clock;
         // The factorisation ran in build_solvers; it is charged to the frame that first uses it.
         if (fp.solve == SolveAction::Factorised) rec.solve_s += solver.factorise_seconds();
-        // An iterative solver starts from the last answer for the same reflectance: nearby
-        // lights, nearby radiosities.
-        const int warm = m_last_of_set[fp.reflectance_set];
+        // An iterative solver starts from the last answer for the same reflectance (nearby
+        // lights, nearby radiosities), or else the last answer of all (the previous frame's,
+        // before a surface moved).
+        const int warm =
+            m_last_of_set[fp.reflectance_set] >= 0 ? m_last_of_set[fp.reflectance_set] : m_last_solved;
         const std::vector<Rgb>* start =
             fp.solve == SolveAction::Iterated && warm >= 0 ? &m_solutions[warm] : nullptr;
         m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E, start);
         m_last_of_set[fp.reflectance_set] = fp.solution;
+        m_last_solved = fp.solution;
         rec.sweeps = solver.last_iterations();
         m_r->channel_solves += solver.last_channel_solves();
         rec.solve_s += clock.seconds();
         m_r->sensor_irradiance.resize(m_plan.solutions.size());
         std::vector<Rgb>& readings = m_r->sensor_irradiance[fp.solution];
-        readings.assign(m_p.sensors.size(), Rgb(0.0));
-        for (std::size_t k = 0; k < m_p.sensors.size(); ++k)
-            readings[k] = sensor_irradiance(m_p.sensors[k], m_solutions[fp.solution]);
+        const std::vector<SensorFactors>& sensors = *state().sensors;
+        readings.assign(sensors.size(), Rgb(0.0));
+        for (std::size_t k = 0; k < sensors.size(); ++k)
+            readings[k] = sensor_irradiance(sensors[k], m_solutions[fp.solution]);
         // Diagnostics, not timed as solving.
+        const FormFactors& ff = *state().ff;
         const SolveDiagnostics d = diagnose_solution(
-            m_p.ff.F, m_p.ff.area, {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
+            ff.F, ff.area, {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
             m_solutions[fp.solution]);
         m_r->residual = std::max(m_r->residual, d.residual);
-        if (!m_p.ff.error.empty()) {
+        if (!ff.error.empty()) {
             const Rgb b = radiosity_error_bound(
-                solver, m_p.ff.F, m_p.ff.error,
+                solver, ff.F, ff.error,
                 {m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E},
                 m_solutions[fp.solution]);
             if (!m_r->radiosity_error_bound) m_r->radiosity_error_bound = Rgb(0.0);
@@ -280,12 +331,13 @@ private:
         const Stopwatch clock;
         if (fp.render == RenderAction::Rendered) {
             if (m_nodes_solution != fp.solution) {
-                m_nodes = std::make_unique<NodeRadiosity>(m_p.geometry, m_solutions[fp.solution],
+                m_nodes = std::make_unique<NodeRadiosity>(*state().geometry, m_solutions[fp.solution],
                                                           m_plan.solutions[fp.solution].E);
                 m_nodes_solution = fp.solution;
             }
             const PinholeCamera cam(fp.camera, m_r->render.width, m_r->render.height);
-            m_image = std::make_shared<const Image>(render_image(m_p.geometry, *m_nodes, cam, m_r->render));
+            m_image =
+                std::make_shared<const Image>(render_image(*state().geometry, *m_nodes, cam, m_r->render));
             ++m_r->renders;
         } else {
             ++m_r->copies;
@@ -297,7 +349,12 @@ private:
     const Prepared& m_p;
     const Plan& m_plan;
     SequenceReport* m_r;
+    GeometryStates m_states;
+    int m_current = -1;  // the geometry state entered last (-1: none held)
+    std::vector<std::unique_ptr<RadiositySolver>> m_solvers;  // per reflectance set, while its state is held
+    std::string m_last_warning;
     std::vector<std::vector<Rgb>> m_solutions;
+    int m_last_solved = -1;
     std::vector<int> m_last_of_set;  // per reflectance set, the solution solved for it last (-1: none)
     std::unique_ptr<NodeRadiosity> m_nodes;
     int m_nodes_solution = -1;
@@ -330,6 +387,45 @@ void add_totals(SequenceReport* r) {
     }
 }
 
+nlohmann::json update_json(const std::optional<FormFactorUpdate>& u) {
+    if (!u) return nullptr;
+    return {{"surfaces_moved", u->surfaces_moved},
+            {"pairs_moved", u->pairs_moved},
+            {"pairs_shadowed", u->pairs_shadowed},
+            {"pairs_unchanged", u->pairs_unchanged},
+            {"full_recompute", u->full ? nlohmann::json(u->reason) : nlohmann::json(nullptr)},
+            {"select_s", u->select_s},
+            {"compute_s", u->compute_s},
+            {"seconds", u->seconds}};
+}
+
+// The sequence's geometry states and what obtaining them cost (null without motion).
+nlohmann::json motion_json(const SequenceReport& r) {
+    bool moves = false;
+    for (const FrameRecord& f : r.frames) moves = moves || f.plan.geometry != 0;
+    if (!moves && r.geometry_states <= 1) return nullptr;
+    long long recomputed = 0, total = 0, updated = 0, cached = 0;
+    double seconds = 0.0;
+    for (const FrameRecord& f : r.frames) {
+        if (f.update) {
+            ++updated;
+            recomputed += f.update->entries_recomputed;
+            total += f.update->entries_total;
+            seconds += f.update->seconds;
+        }
+        if (f.form_factors == std::string_view("cached") && &f != &r.frames[0]) ++cached;
+    }
+    return {{"geometry_states", r.geometry_states},
+            {"states_updated", updated},
+            {"states_cached", cached},
+            {"entries_recomputed", recomputed},
+            {"entries_total", total},
+            {"recomputed_fraction", total > 0 ? static_cast<double>(recomputed) / total : 0.0},
+            {"update_s", seconds},
+            {"closure_max_error", r.prep->scene.closed ? nlohmann::json(r.closure_max_error_over_states)
+                                                       : nlohmann::json(nullptr)}};
+}
+
 }  // namespace
 
 SequenceReport run_sequence_job(const SequenceJob& job) {
@@ -348,28 +444,40 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
             seq = read_sequence(job, p.scene, &r.render);
         }));
     const Prepared& p = *r.prep;
-    const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry, is_iterative(job.solver));
+    r.solver = job.solver;
+    if (!job.solver_given && seq->has_motion() && p.geometry.patch_count() > kMovingIterativeFromPatches)
+        r.solver = SolverMethod::GaussSeidel;
+    const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry, is_iterative(r.solver));
     r.fps = seq->fps;
     r.frames.resize(plan.frames.size());
     for (std::size_t f = 0; f < r.frames.size(); ++f) r.frames[f].plan = plan.frames[f];
     // Form factors: once for the whole sequence, charged to frame 0.
     r.frames[0].form_factors_s = p.form_factors_s;
     r.frames[0].form_factors = p.cache.status == CacheStatus::Hit ? "cached" : "computed";
+    if (p.cache.status != CacheStatus::Hit)
+        r.frames[0].entries_recomputed =
+            static_cast<long long>(p.geometry.patch_count()) * p.geometry.patch_count();
+    r.geometry_states = static_cast<int>(plan.geometries.size());
 
     std::vector<std::unique_ptr<FrameSink>> sinks;
     if (job.palette == 0)
         for (const auto& o : job.outputs)
             sinks.push_back(
                 make_frame_sink(o, r.render.width, r.render.height, {seq->fps, job.exposure, job.crf}));
+    FrameLoop loop(job, p, plan, *seq, &r);
+    loop.enter_first();
     EncoderThread encoder(std::move(sinks), &r.frames);
-    std::vector<std::unique_ptr<RadiositySolver>> solvers = build_solvers(job, p, plan, &r);
     SequenceKept kept;  // with a palette: every frame, 8-bit, until all have added to the histogram
     Cluster& cluster = Cluster::current();
     r.ranks = cluster.size();
-    if (cluster.distributed())
-        FrameLoop(job, p, plan, &r).run_across(cluster, solvers, encoder, &kept);
+    if (cluster.distributed() && plan.moves())
+        job.warn(
+            "the sequence moves surfaces: rank 0 renders every frame (the other ranks would place "
+            "the surfaces as the scene file does)");
+    if (cluster.distributed() && !plan.moves())
+        loop.run_across(cluster, encoder, &kept);
     else
-        FrameLoop(job, p, plan, &r).run(solvers, encoder, &kept);
+        loop.run(encoder, &kept);
     encoder.finish();
     if (job.progress) *job.progress << "\n";
     if (job.palette > 0) {
@@ -406,7 +514,7 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
     j["left_out"] = left_out_json(
         r.prep->options, r.prep->ff.stats,
         {r.factorisations, 3 * r.reflectance_sets, r.channel_solves, 3 * r.substitutions, false});
-    j["solve"] = solve_json(job.solver, r.stability, r.residual);
+    j["solve"] = solve_json(r.solver, r.stability, r.residual);
     j["solve"]["energy_balance_error"] = r.prep->scene.closed ? json(r.energy_balance_error) : json(nullptr);
     j["radiosity_error_bound"] = error_bound_json(r.radiosity_error_bound);
     j["totals"] = {{"load_s", r.load_s},
@@ -421,6 +529,9 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                    {"channel_solves", r.channel_solves},
                    {"renders", r.renders},
                    {"copies", r.copies}};
+    const long long entries_total =
+        static_cast<long long>(r.prep->geometry.patch_count()) * r.prep->geometry.patch_count();
+    j["motion"] = motion_json(r);
     json frames = json::array();
     for (const FrameRecord& f : r.frames) {
         json sensors = json::array();
@@ -433,6 +544,9 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
         frames.push_back({{"frame", f.plan.frame},
                           {"time_s", f.plan.time_s},
                           {"form_factors", f.form_factors},
+                          {"entries_recomputed", f.entries_recomputed},
+                          {"entries_total", entries_total},
+                          {"form_factor_update", update_json(f.update)},
                           {"solve", solve_action_name(f.plan.solve)},
                           {"render", render_action_name(f.plan.render)},
                           {"rank", f.rank},
@@ -462,6 +576,19 @@ std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
     s += fmt::format("  {:<13} {:8.3f} s\n", "load", r.load_s);
     s += fmt::format("  {:<13} {:8.3f} s  once, cache {}\n", "form factors", r.form_factors_s,
                      cache_status_name(r.prep->cache.status));
+    if (r.geometry_states > 1) {
+        long long recomputed = 0, total = 0, updated = 0;
+        for (const FrameRecord& f : r.frames)
+            if (f.update) {
+                ++updated;
+                recomputed += f.update->entries_recomputed;
+                total += f.update->entries_total;
+            }
+        s += fmt::format(
+            "  {:<13}    {} geometry states, {} updated: {} of {} entries recomputed ({:.2f} %)\n", "moving",
+            r.geometry_states, updated, recomputed, total,
+            total > 0 ? 100.0 * static_cast<double>(recomputed) / total : 0.0);
+    }
     s += fmt::format(
         "  {:<13} {:8.3f} s  {} reflectance set(s): {} channel factorisation(s); {} distinct "
         "state(s) solved: {} channel substitution(s); {} frames\n",

@@ -11,6 +11,7 @@
 #include "app/form_factor_request.h"
 #include "app/pipeline.h"
 #include "encode/palette.h"
+#include "formfactor/incremental.h"
 #include "render/image.h"
 #include "render/raycast.h"
 #include "schedule/scheduler.h"
@@ -27,6 +28,10 @@ struct SequenceJob {
     std::optional<int> width, height, samples;
     FormFactorRequest form_factors;
     SolverMethod solver = SolverMethod::LU;
+    // --solver given: used as it is. Otherwise a sequence with moving surfaces above
+    // kMovingIterativeFromPatches patches solves by Gauss-Seidel, warm-started from the previous
+    // frame (every geometry state is a new system: docs/sequences.md, "Moving surfaces").
+    bool solver_given = false;
     double exposure = 0.0;
     int crf = 18;
     int palette = 0;  // > 0: one palette of this many colours for all frames (.gif / indexed .png)
@@ -37,18 +42,24 @@ struct SequenceJob {
     std::function<void(int, const Image&)> on_frame;  // sees every frame (tests)
 };
 
+inline constexpr int kMovingIterativeFromPatches = 1000;
+
 struct FrameRecord {
     FramePlan plan;
-    const char* form_factors = "reused";  // computed | cached | reused
-    int rank = 0;                         // the MPI rank that rendered it (0: one process)
+    const char* form_factors = "reused";  // computed | cached | updated | reused
+    // Entries of F evaluated for this frame (all for `computed`, the update's for `updated`).
+    long long entries_recomputed = 0;
+    std::optional<FormFactorUpdate> update;  // when `updated`: what was recomputed and why
+    int rank = 0;                            // the MPI rank that rendered it (0: one process)
     double form_factors_s = 0, solve_s = 0, render_s = 0, encode_s = 0;
     int sweeps = 0;  // an iterative solve's sweeps (max over channels); 0 for direct solves and reuse
 };
 
 struct SequenceReport {
     std::string scene_path;
-    std::unique_ptr<Prepared> prep;  // scene, geometry, form factors, their cache and checks
-    RenderOptions render;            // as resolved
+    std::unique_ptr<Prepared> prep;          // scene, geometry, form factors, their cache and checks
+    RenderOptions render;                    // as resolved
+    SolverMethod solver = SolverMethod::LU;  // as resolved (SequenceJob::solver_given)
     int threads = 0;
     int ranks = 1;  // processes of the MPI job (1: not distributed)
     double fps = 0;
@@ -62,6 +73,9 @@ struct SequenceReport {
     // form factors carry no estimates.
     std::optional<Rgb> radiosity_error_bound;
     std::vector<FrameRecord> frames;
+    // Moving surfaces: the geometry states (1 without motion) and the worst closure over them.
+    int geometry_states = 1;
+    double closure_max_error_over_states = 0.0;
     // Per solution of the plan (FramePlan::solution), per scene sensor: its irradiance.
     std::vector<std::vector<Rgb>> sensor_irradiance;
     struct PaletteResult {

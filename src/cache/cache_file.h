@@ -147,4 +147,12 @@ FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometr
                                 const FormFactorOptions& options, const CacheSettings& settings,
                                 const WarningSink& warn, CacheOutcome* outcome);
 
+// The matrix from the cache when a file for this key is there and passes every check; nothing
+// is computed, written or locked, and a damaged file is left for obtain_form_factors to rebuild
+// (outcome->reason says why it was not used). A moving sequence's geometry states use it: they
+// are updated incrementally when not found, and not stored (docs/sequences.md).
+std::optional<FormFactors> find_cached_form_factors(const Scene& scene, const SceneGeometry& geometry,
+                                                    const FormFactorOptions& options,
+                                                    const CacheSettings& settings, CacheOutcome* outcome);
+
 }  // namespace radiosa

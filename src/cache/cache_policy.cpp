@@ -246,4 +246,22 @@ FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometr
     return ff;
 }
 
+std::optional<FormFactors> find_cached_form_factors(const Scene& scene, const SceneGeometry& geometry,
+                                                    const FormFactorOptions& options,
+                                                    const CacheSettings& settings, CacheOutcome* outcome) {
+    CacheRun run(scene, geometry, options, settings.compute, [](const std::string&) {});
+    std::optional<FormFactors> ff;
+    if (settings.enabled && options.culling) {
+        const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
+        const CacheKey key = form_factor_key(scene, options);
+        const fs::path path = dir / (key.hex() + ".rff");
+        run.o.key = key.hex();
+        run.o.file = path.string();
+        ff = run.try_load(path, key);
+        if (ff) run.o.status = CacheStatus::Hit;
+    }
+    if (outcome) *outcome = run.o;
+    return ff;
+}
+
 }  // namespace radiosa

@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <stdexcept>
+
 namespace radiosa {
 
 int Scene::patch_count() const {
@@ -24,6 +26,12 @@ Materials patch_materials(const Scene& scene) {
             m.E[first + static_cast<std::size_t>(pe.it) * d.ns + pe.is] = pe.emission;
     }
     return m;
+}
+
+std::shared_ptr<const Surface> moved_shape(const SurfaceDesc& d, const Similarity& motion) {
+    if (motion.identity()) return d.shape;
+    if (!d.unplaced) throw std::logic_error("moved_shape: surface '" + d.name + "' was not read from a file");
+    return std::make_shared<PlacedSurface>(d.unplaced, compose(motion, d.transform), d.back);
 }
 
 }  // namespace radiosa

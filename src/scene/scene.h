@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "surfaces/placed.h"
 #include "util/error.h"
 #include "util/math.h"
 
@@ -26,6 +27,11 @@ struct SurfaceDesc {
     const SurfaceType* type = nullptr;     // from the registry (surfaces/registry.h)
     std::shared_ptr<const Surface> shape;  // built and validated by the type's reader
     FileLoc loc;
+    // How `shape` was made: `unplaced` placed by `transform` (the identity when the file gives
+    // none), seen from the back when `back`. A motion in a sequence places it anew (moved_shape).
+    std::shared_ptr<const Surface> unplaced;
+    Similarity transform;
+    bool back = false;
 
     int ns = 1;  // patches along s
     int nt = 1;  // patches along t
@@ -94,6 +100,12 @@ struct Materials {
     std::vector<Rgb> E;
 };
 Materials patch_materials(const Scene& scene);
+
+// The surface displaced by a rigid `motion` applied after its own transform (a sequence's
+// translate / rotate_deg events): `d.shape` itself for the identity, else the unplaced shape
+// placed by compose(motion, transform), so that a surface without a transform moved by M is the
+// same bits as one placed by `transform: M` in a scene file.
+std::shared_ptr<const Surface> moved_shape(const SurfaceDesc& d, const Similarity& motion);
 
 Scene load_scene(const std::string& path);
 Scene parse_scene(const std::string& yaml_text, const std::string& filename);

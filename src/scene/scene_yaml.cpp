@@ -137,6 +137,8 @@ std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string&
         if (part.reflectance) d.reflectance = *part.reflectance;
         if (part.emission) d.emission = *part.emission;
         d.shape = transform ? std::make_shared<PlacedSurface>(part.shape, xf, false) : part.shape;
+        d.unplaced = part.shape;
+        d.transform = xf;
         SurfaceDesc back = d;
         out.push_back(std::move(d));
         if (!two_sided) continue;
@@ -145,6 +147,7 @@ std::vector<SurfaceDesc> read_surface(const YAML::Node& node, const std::string&
         back.patch_emission.clear();
         if (back_rho) back.reflectance = *back_rho;
         back.shape = std::make_shared<PlacedSurface>(part.shape, xf, true);
+        back.back = true;
         out.push_back(std::move(back));
     }
     return out;

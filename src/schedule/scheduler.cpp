@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "geometry/scene_geometry.h"
+
 namespace radiosa {
 
 const char* solve_action_name(SolveAction a) {
@@ -29,6 +31,10 @@ int Plan::renders() const {
         frames.begin(), frames.end(), [](const FramePlan& f) { return f.render == RenderAction::Rendered; }));
 }
 
+bool Plan::is_identity(const std::vector<Similarity>& motion) {
+    return std::all_of(motion.begin(), motion.end(), [](const Similarity& m) { return m.identity(); });
+}
+
 Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeometry& geometry,
                    bool iterative) {
     Plan plan;
@@ -39,16 +45,34 @@ Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeomet
         fp.camera = seq.camera_at(fp.time_s);
         Materials m = seq.materials_at(base, geometry, fp.time_s);
 
-        auto rs = std::find(plan.reflectances.begin(), plan.reflectances.end(), m.rho);
-        const bool new_rho = rs == plan.reflectances.end();
-        fp.reflectance_set = static_cast<int>(rs - plan.reflectances.begin());
-        if (new_rho) plan.reflectances.push_back(m.rho);
+        std::vector<Similarity> motion = seq.motion_at(geometry.surface_count(), fp.time_s);
+        const auto gs = std::find(plan.geometries.begin(), plan.geometries.end(), motion);
+        fp.geometry = static_cast<int>(gs - plan.geometries.begin());
+        if (gs == plan.geometries.end()) {
+            plan.geometries.push_back(std::move(motion));
+            plan.last_frame_of_geometry.push_back(f);
+        }
+        plan.last_frame_of_geometry[static_cast<std::size_t>(fp.geometry)] = f;
 
-        auto sol = std::find_if(plan.solutions.begin(), plan.solutions.end(),
-                                [&](const Materials& s) { return s.rho == m.rho && s.E == m.E; });
-        fp.solution = static_cast<int>(sol - plan.solutions.begin());
-        if (sol == plan.solutions.end()) {
+        int rs = 0;
+        while (rs < static_cast<int>(plan.reflectances.size()) &&
+               !(plan.reflectance_geometry[rs] == fp.geometry && plan.reflectances[rs] == m.rho))
+            ++rs;
+        const bool new_rho = rs == static_cast<int>(plan.reflectances.size());
+        fp.reflectance_set = rs;
+        if (new_rho) {
+            plan.reflectances.push_back(m.rho);
+            plan.reflectance_geometry.push_back(fp.geometry);
+        }
+
+        int sol = 0;
+        while (sol < static_cast<int>(plan.solutions.size()) &&
+               !(plan.solution_set[sol] == rs && plan.solutions[sol].E == m.E))
+            ++sol;
+        fp.solution = sol;
+        if (sol == static_cast<int>(plan.solutions.size())) {
             plan.solutions.push_back(std::move(m));
+            plan.solution_set.push_back(rs);
             fp.solve = iterative ? SolveAction::Iterated
                        : new_rho ? SolveAction::Factorised
                                  : SolveAction::Substituted;

@@ -91,6 +91,7 @@ Materials Sequence::materials_at(const Materials& base, const SceneGeometry& geo
             Rgb& slot = ev.property == EventProperty::Emission ? m.E[i] : m.rho[i];
             slot = u >= 1.0 ? ev.value : slot + u * (ev.value - slot);
         };
+        if (ev.property == EventProperty::Motion) continue;
         if (ev.patch) {
             apply(geometry.patch_index(ev.surface, ev.patch->first, ev.patch->second));
         } else {
@@ -100,6 +101,43 @@ Materials Sequence::materials_at(const Materials& base, const SceneGeometry& geo
         }
     }
     return m;
+}
+
+bool Sequence::has_motion() const {
+    return std::any_of(events.begin(), events.end(),
+                       [](const SequenceEvent& e) { return e.property == EventProperty::Motion; });
+}
+
+std::vector<Similarity> Sequence::motion_at(int surface_count, double t) const {
+    struct State {
+        Vec3 translate{0.0};
+        EventRotation rotate;
+    };
+    std::vector<State> state(static_cast<std::size_t>(surface_count));
+    for (const SequenceEvent& ev : events) {
+        if (ev.property != EventProperty::Motion || ev.surface < 0 || t < ev.t0) continue;
+        // A ramp goes from the displacement the surface has when it starts (earlier events
+        // applied) to the one given; the reader allows one axis and centre per surface, so the
+        // angle alone is interpolated (several turns are several turns).
+        const double u = ev.t1 > ev.t0 ? std::min(1.0, (t - ev.t0) / (ev.t1 - ev.t0)) : 1.0;
+        State& s = state[static_cast<std::size_t>(ev.surface)];
+        if (ev.translate)
+            s.translate = u >= 1.0 ? *ev.translate : s.translate + u * (*ev.translate - s.translate);
+        if (ev.rotate) {
+            const double a = s.rotate.angle_deg;
+            s.rotate = *ev.rotate;
+            s.rotate.angle_deg = u >= 1.0 ? ev.rotate->angle_deg : a + u * (ev.rotate->angle_deg - a);
+        }
+    }
+    std::vector<Similarity> out(state.size());
+    for (std::size_t k = 0; k < state.size(); ++k) {
+        // x -> R (x - about) + about + translate: exactly the identity at angle 0 and no
+        // translation (rotation_deg(axis, 0) is I to the bit).
+        const State& s = state[k];
+        out[k].rotate = rotation_deg(s.rotate.axis, s.rotate.angle_deg);
+        out[k].translate = s.rotate.about - out[k].rotate * s.rotate.about + s.translate;
+    }
+    return out;
 }
 
 }  // namespace radiosa

@@ -30,7 +30,15 @@ struct CameraKey {
     CameraDesc camera;  // always filled (eye from the orbit form when orbit)
 };
 
-enum class EventProperty { Emission, Reflectance };
+enum class EventProperty { Emission, Reflectance, Motion };
+
+// A motion event's rotation: angle_deg degrees about `axis` through the point `about` (scene
+// coordinates, where the surface stands in the scene file).
+struct EventRotation {
+    Vec3 axis{0.0, 0.0, 1.0};
+    double angle_deg = 0.0;
+    Vec3 about{0.0};
+};
 
 struct SequenceEvent {
     double t0 = 0.0, t1 = 0.0;  // a set when t0 == t1, else a linear ramp over [t0, t1]
@@ -38,6 +46,10 @@ struct SequenceEvent {
     std::optional<std::pair<int, int>> patch;  // (is, it); the whole surface when absent
     EventProperty property = EventProperty::Emission;
     Rgb value{0.0};
+    // Motion: the surface's displacement from its place in the scene file (not an increment):
+    // the rotation first, then the translation; either may be absent (that part is unchanged).
+    std::optional<Vec3> translate;
+    std::optional<EventRotation> rotate;
     FileLoc loc;
 };
 
@@ -57,6 +69,10 @@ struct Sequence {
     CameraDesc camera_at(double t) const;
     // The scene's materials with every event applied as it stands at time t.
     Materials materials_at(const Materials& base, const SceneGeometry& geometry, double t) const;
+    // Every surface's displacement at time t from its place in the scene file (the identity for
+    // a surface no motion event has reached): applied after the surface's own transform.
+    std::vector<Similarity> motion_at(int surface_count, double t) const;
+    bool has_motion() const;
 };
 
 inline constexpr int kMaxFrames = 100000;

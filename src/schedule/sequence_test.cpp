@@ -156,9 +156,11 @@ TEST(Sequence, BadFilesNameTheLineAndTheFix) {
     EXPECT_EQ(
         error_of(head + "  - {time_s: 1, surface: face6, emission: [1, 1, 1], reflectance: [1, 1, 1]}\n",
                  &scene),
-        "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
+        "s.yaml:14:5: event 1: give exactly one of emission, reflectance or a motion (translate and/or "
+        "rotate_deg)");
     EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: face6, emision: [1, 1, 1]}\n", &scene),
-              "s.yaml:14:5: event 1: give exactly one of emission or reflectance");
+              "s.yaml:14:5: event 1: give exactly one of emission, reflectance or a motion (translate and/or "
+              "rotate_deg)");
     EXPECT_EQ(error_of("fps: 10\ncamera:\n  keys:\n    - {time_s: 1, position: [5, 0, 0]}\n"
                        "    - {time_s: 1, position: [6, 0, 0]}\n",
                        &scene),
@@ -208,6 +210,71 @@ std::string actions(const Plan& plan) {
     return s;
 }
 }  // namespace
+
+TEST(Sequence, MotionEventsSetAndRampDisplacementsFromTheScenePlace) {
+    const Scene scene = load_scene(kSeed);
+    const SceneGeometry g(scene);
+    const int n = g.surface_count(), sphere = scene.find_surface("sphere");
+    const Sequence s = seq(std::string("fps: 10\n") + kOrbitKeys + R"(events:
+  - time_s: [0, 2]
+    surface: sphere
+    translate: [0, 1, 0]
+    rotate_deg: {axis: [1, 0, 0], angle: 90, about: [0, 0, 0]}
+  - {time_s: 3, surface: sphere, translate: [0, 0, 0]}
+)",
+                           &scene);
+    EXPECT_TRUE(s.has_motion());
+    EXPECT_TRUE(s.motion_at(n, 0.0)[static_cast<std::size_t>(sphere)].identity());
+    const Similarity half = s.motion_at(n, 1.0)[static_cast<std::size_t>(sphere)];
+    // Half way: 45 degrees about x through the origin, then half the translation.
+    const Vec3 p = half.apply(Vec3(0, 0, 1));
+    EXPECT_NEAR(p.x, 0.0, 1e-15);
+    EXPECT_NEAR(p.y, 0.5 - std::sqrt(0.5), 1e-15);
+    EXPECT_NEAR(p.z, std::sqrt(0.5), 1e-15);
+    for (int k = 0; k < n; ++k)
+        if (k != sphere) EXPECT_TRUE(s.motion_at(n, 1.0)[static_cast<std::size_t>(k)].identity()) << k;
+    // At 3 s the translation is set back; the rotation stays (the event leaves it as it is).
+    const Vec3 q = s.motion_at(n, 3.0)[static_cast<std::size_t>(sphere)].apply(Vec3(0, 0, 1));
+    EXPECT_NEAR(q.y, -1.0, 1e-15);
+    EXPECT_NEAR(q.z, 0.0, 1e-15);
+    // Frames group by geometry state: 0.0 s is the scene's own placement, each ramp frame a new
+    // state, and every frame from 2 s on shares one.
+    const Plan plan = plan_sequence(s, patch_materials(scene), g);
+    EXPECT_TRUE(Plan::is_identity(plan.geometries[0]));
+    EXPECT_EQ(plan.frames[20].geometry, plan.frames[25].geometry);
+    EXPECT_NE(plan.frames[5].geometry, plan.frames[6].geometry);
+    EXPECT_EQ(plan.frames[5].solve, SolveAction::Factorised);  // a new geometry is a new system
+    EXPECT_TRUE(plan.moves());
+}
+
+TEST(Sequence, BadMotionsNameTheLineAndTheFix) {
+    const Scene scene = load_scene(kSeed);
+    const std::string head = std::string("fps: 10\n") + kOrbitKeys + "events:\n";
+    EXPECT_EQ(
+        error_of(head + "  - {time_s: 1, surface: sphere, patch: [0, 0], translate: [1, 0, 0]}\n", &scene),
+        "s.yaml:14:34: event 1: a motion moves a whole surface; drop patch");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: sphere, translate: [1, 0, 0], emission: [1, 1, 1]}\n",
+                       &scene),
+              "s.yaml:14:5: event 1: give exactly one of emission, reflectance or a motion (translate and/or "
+              "rotate_deg)");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: sphere, rotate_deg: {axis: [0, 0, 0], angle: 5}}\n",
+                       &scene),
+              "s.yaml:14:53: event 1: rotate_deg axis must be a non-zero vector [x, y, z]");
+    EXPECT_EQ(
+        error_of(
+            head +
+                "  - {time_s: 1, surface: sphere, rotate_deg: {axis: [0, 0, 1], angle: 5, at: [0, 0, 0]}}\n",
+            &scene),
+        "s.yaml:14:74: unknown key 'at' in event 1: rotate_deg (allowed: axis, angle, about)");
+    EXPECT_EQ(error_of(head + "  - {time_s: 1, surface: sphere, translate: [1, .nan, 0]}\n", &scene),
+              "s.yaml:14:49: translate[1] must be a finite number, got '.nan'");
+    EXPECT_EQ(
+        error_of(head + "  - {time_s: 1, surface: sphere, rotate_deg: {axis: [0, 0, 1], angle: 5}}\n" +
+                     "  - {time_s: 2, surface: sphere, rotate_deg: {axis: [0, 1, 0], angle: 9}}\n",
+                 &scene),
+        "s.yaml:15:5: 'sphere' already rotates about another axis or centre (event at s.yaml:14:5); give "
+        "every rotation of one surface the same axis and about");
+}
 
 TEST(Scheduler, CameraOnlySequenceSolvesOnceAndRendersEveryFrame) {
     const Planned p = plan_of(std::string("fps: 4\n") + kOrbitKeys);

@@ -82,6 +82,29 @@ std::vector<int> named_surfaces(const Scene& scene, const std::string& name) {
     return parts;
 }
 
+// translate: [x, y, z] and/or rotate_deg: {axis: [x, y, z], angle: a, about: [x, y, z]}.
+void read_motion(YamlMap& m, const std::string& what, SequenceEvent* ev) {
+    const std::string& file = ev->loc.file;
+    if (m.has("translate")) ev->translate = m.vec3("translate");
+    if (auto r = m.optional("rotate_deg")) {
+        YamlMap rm(*r, file, what + ": rotate_deg");
+        EventRotation rot;
+        const YAML::Node an = rm.required("axis");
+        rot.axis = yaml_vec3(an, file, "axis");
+        const double len = glm::length(rot.axis);
+        if (!(len > 0.0) || !std::isfinite(len))
+            throw Error(loc_of(an, file), what + ": rotate_deg axis must be a non-zero vector [x, y, z]");
+        const YAML::Node angle = rm.required("angle");
+        rot.angle_deg = yaml_number(angle, file, "angle");
+        if (!(std::abs(rot.angle_deg) <= 1e6))
+            throw Error(loc_of(angle, file),
+                        what + ": rotate_deg angle must be in [-1e6, 1e6] degrees, got " + angle.Scalar());
+        if (rm.has("about")) rot.about = rm.vec3("about");
+        rm.reject_unknown_keys("axis, angle, about");
+        ev->rotate = rot;
+    }
+}
+
 // One event per surface it names (an entry of several surfaces gives several).
 std::vector<SequenceEvent> read_event(const YAML::Node& node, std::size_t index, const std::string& file,
                                       const Scene* scene) {
@@ -128,11 +151,29 @@ std::vector<SequenceEvent> read_event(const YAML::Node& node, std::size_t index,
         }
         ev.patch = std::make_pair(static_cast<int>(i), static_cast<int>(j));
     }
-    const bool e = m.has("emission"), r = m.has("reflectance");
-    if (e == r) throw Error(m.loc(), what + ": give exactly one of emission or reflectance");
-    ev.property = e ? EventProperty::Emission : EventProperty::Reflectance;
-    ev.value = read_value(m.required(e ? "emission" : "reflectance"), file, ev.property);
-    m.reject_unknown_keys("time_s, surface, patch, emission | reflectance");
+    const bool e = m.has("emission"), r = m.has("reflectance"),
+               moves = m.has("translate") || m.has("rotate_deg");
+    if (int(e) + int(r) + int(moves) != 1)
+        throw Error(m.loc(), what +
+                                 ": give exactly one of emission, reflectance or a motion (translate "
+                                 "and/or rotate_deg)");
+    if (moves) {
+        ev.property = EventProperty::Motion;
+        read_motion(m, what, &ev);
+        if (ev.patch) throw Error(m.key_loc("patch"), what + ": a motion moves a whole surface; drop patch");
+        // A two-sided surface's back moves with it.
+        if (scene) {
+            const std::size_t fronts = targets.size();
+            for (std::size_t k = 0; k < fronts; ++k)
+                if (const int twin = scene->surfaces[static_cast<std::size_t>(targets[k])].twin; twin >= 0)
+                    targets.push_back(twin);
+        }
+        m.reject_unknown_keys("time_s, surface, translate, rotate_deg");
+    } else {
+        ev.property = e ? EventProperty::Emission : EventProperty::Reflectance;
+        ev.value = read_value(m.required(e ? "emission" : "reflectance"), file, ev.property);
+        m.reject_unknown_keys("time_s, surface, patch, emission | reflectance | translate, rotate_deg");
+    }
     if (targets.size() <= 1) return {ev};
     std::vector<SequenceEvent> out;
     for (const int k : targets) {
@@ -140,6 +181,26 @@ std::vector<SequenceEvent> read_event(const YAML::Node& node, std::size_t index,
         out.push_back(ev);
     }
     return out;
+}
+
+// One rotation axis and centre per surface: a ramp then only turns the angle, which is what
+// "from the displacement it has to the one given" means without ambiguity (a ramp between two
+// different axes has no single natural path).
+void check_rotations(const std::vector<SequenceEvent>& events, const Scene* scene) {
+    for (std::size_t a = 0; a < events.size(); ++a) {
+        if (!events[a].rotate) continue;
+        for (std::size_t b = a + 1; b < events.size(); ++b) {
+            if (!events[b].rotate || events[b].surface != events[a].surface) continue;
+            const EventRotation &ra = *events[a].rotate, &rb = *events[b].rotate;
+            if (ra.axis == rb.axis && ra.about == rb.about) continue;
+            const std::string name =
+                scene ? scene->surfaces[static_cast<std::size_t>(events[b].surface)].name : "the surface";
+            throw Error(events[b].loc, "'" + name +
+                                           "' already rotates about another axis or centre (event at " +
+                                           events[a].loc.to_string() +
+                                           "); give every rotation of one surface the same axis and about");
+        }
+    }
 }
 
 }  // namespace
@@ -204,6 +265,7 @@ Sequence parse_sequence(const std::string& yaml_text, const std::string& filenam
                 seq.events.push_back(std::move(e));
         std::stable_sort(seq.events.begin(), seq.events.end(),
                          [](const SequenceEvent& a, const SequenceEvent& b) { return a.t0 < b.t0; });
+        check_rotations(seq.events, scene);
     }
 
     // Default length: up to and including the last key (and its hold) or event end.

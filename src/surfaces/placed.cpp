@@ -104,6 +104,27 @@ void PlacedSurface::write_key(ByteWriter& w) const {
     w.u8(m_back ? 1 : 0);
 }
 
+Mat3 rotation_deg(const Vec3& axis, double angle_deg) {
+    // R = cos I + sin [u]x + (1 - cos) u u^T, column by column.
+    const Vec3 u = axis / glm::length(axis);
+    const double angle = deg_to_rad(angle_deg);
+    const double c = std::cos(angle), s = std::sin(angle);
+    Mat3 r(1.0);
+    for (int j = 0; j < 3; ++j) {
+        Vec3 e(0.0);
+        e[j] = 1.0;
+        r[j] = c * e + s * glm::cross(u, e) + (1.0 - c) * glm::dot(u, e) * u;
+    }
+    return r;
+}
+
+Similarity compose(const Similarity& outer, const Similarity& inner) {
+    if (inner.identity()) return outer;
+    if (outer.identity()) return inner;
+    return {outer.scale * inner.scale, outer.rotate * inner.rotate,
+            outer.translate + outer.scale * (outer.rotate * inner.translate)};
+}
+
 Similarity read_transform(const YAML::Node& node, const std::string& file) {
     YamlMap m(node, file, "transform");
     Similarity xf;
@@ -120,16 +141,9 @@ Similarity read_transform(const YAML::Node& node, const std::string& file) {
         const double len = glm::length(axis);
         if (!(len > 0.0) || !std::isfinite(len))
             throw Error(loc_of(an, file), "rotate_deg axis must be a non-zero vector [x, y, z]");
-        const double angle = deg_to_rad(rm.number("angle"));
+        const double angle = rm.number("angle");
         rm.reject_unknown_keys("axis, angle");
-        // Rodrigues: R = cos I + sin [u]x + (1 - cos) u u^T, column by column.
-        const Vec3 u = axis / len;
-        const double c = std::cos(angle), s = std::sin(angle);
-        for (int j = 0; j < 3; ++j) {
-            Vec3 e(0.0);
-            e[j] = 1.0;
-            xf.rotate[j] = c * e + s * glm::cross(u, e) + (1.0 - c) * glm::dot(u, e) * u;
-        }
+        xf.rotate = rotation_deg(axis, angle);
     }
     if (m.has("translate")) xf.translate = m.vec3("translate");
     m.reject_unknown_keys("scale, rotate_deg, translate");

@@ -15,7 +15,17 @@ struct Similarity {
     Mat3 rotate{1.0};
     Vec3 translate{0.0};
     Vec3 apply(const Vec3& x) const { return translate + scale * (rotate * x); }
+    bool identity() const { return scale == 1.0 && rotate == Mat3(1.0) && translate == Vec3(0.0); }
+    bool operator==(const Similarity&) const = default;
 };
+
+// The rotation by angle_deg degrees about the axis (non-zero; normalised here), right-handed:
+// Rodrigues' formula, the one every transform and motion uses (so equal inputs give equal bits).
+Mat3 rotation_deg(const Vec3& axis, double angle_deg);
+
+// x -> outer(inner(x)). Exact when either is the identity: an unplaced surface moved by a motion
+// is placed by that motion's bits.
+Similarity compose(const Similarity& outer, const Similarity& inner);
 
 class PlacedSurface final : public Surface {
 public:
