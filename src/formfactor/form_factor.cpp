@@ -94,7 +94,7 @@ public:
                     bool blocked = false;
                     for (int k : blockers) {
                         ++tests;
-                        if (m_geo.surface(k).intersect(seg, kEndEps, 1.0 - kEndEps, HitSide::Any)) {
+                        if (m_geo.surface(k).blocks(seg, kEndEps, 1.0 - kEndEps)) {
                             blocked = true;
                             break;
                         }
@@ -400,7 +400,7 @@ public:
                     const Ray seg{x, e};
                     for (int k : blockers) {
                         ++tests;
-                        if (m_geo.surface(k).intersect(seg, 1e-9, 1.0 - 1e-9, HitSide::Any)) return 0.0;
+                        if (m_geo.surface(k).blocks(seg, 1e-9, 1.0 - 1e-9)) return 0.0;
                     }
                 }
                 return ci * cj / (kPi * da * l2 * l2);

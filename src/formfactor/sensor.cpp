@@ -137,7 +137,7 @@ Estimate by_cubature(const SceneGeometry& g, const Vec3& x, const Vec3& n, const
         if (!(l2 > floor2)) return 0.0;
         const Ray seg{x, e};
         for (int k : blockers)
-            if (g.surface(k).intersect(seg, 1e-9, 1.0 - 1e-9, HitSide::Any)) return 0.0;
+            if (g.surface(k).blocks(seg, 1e-9, 1.0 - 1e-9)) return 0.0;
         return ci * cj / (kPi * l2 * l2);
     };
     const Rect root{pj.s0, pj.s1, pj.t0, pj.t1};

@@ -35,6 +35,11 @@ public:
     void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
     std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
                                         HitSide side) const override;
+    // The back side's hits are the inner surface's, seen from the other side: the same points.
+    bool blocks(const Ray& ray, double t_min, double t_max) const override {
+        const Mat3 inv = glm::transpose(m_xf.rotate) / m_xf.scale;
+        return m_inner->blocks(Ray{inv * (ray.origin - m_xf.translate), inv * ray.dir}, t_min, t_max);
+    }
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
     std::pair<double, double> linear_range(const Vec3& a, double s0, double s1, double t0,

@@ -29,23 +29,35 @@ void SphereSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
     *dPdt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
 }
 
-std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min, double t_max,
-                                                   HitSide side) const {
-    // |o + t d - c|^2 = R^2, solved in the cancellation-free form.
-    const Vec3 oc = ray.origin - m_center;
+namespace {
+
+// The roots of |o + t d - c|^2 = R^2 in increasing order, solved in the cancellation-free form;
+// false when the line misses.
+bool sphere_roots(const Ray& ray, const Vec3& center, double radius, double roots[2]) {
+    const Vec3 oc = ray.origin - center;
     const double a = glm::dot(ray.dir, ray.dir);
     const double b = glm::dot(oc, ray.dir);
     // c = |oc|^2 - R^2 computed as (|oc| - R)(|oc| + R) keeps precision near the surface.
     const double loc = glm::length(oc);
-    const double c = (loc - m_radius) * (loc + m_radius);
+    const double c = (loc - radius) * (loc + radius);
     // Discriminant via the perpendicular distance (Hearn & Baker / Ray Tracing Gems ch. 7).
     const Vec3 perp = oc - (b / a) * ray.dir;
-    const double disc = a * (m_radius * m_radius - glm::dot(perp, perp));
-    if (disc < 0.0) return std::nullopt;
+    const double disc = a * (radius * radius - glm::dot(perp, perp));
+    if (disc < 0.0) return false;
     const double q = -(b + std::copysign(std::sqrt(disc), b));
-    double roots[2] = {c / q, q / a};
+    roots[0] = c / q;
+    roots[1] = q / a;
     if (q == 0.0) roots[0] = roots[1] = 0.0;
     if (roots[0] > roots[1]) std::swap(roots[0], roots[1]);
+    return true;
+}
+
+}  // namespace
+
+std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min, double t_max,
+                                                   HitSide side) const {
+    double roots[2];
+    if (!sphere_roots(ray, m_center, m_radius, roots)) return std::nullopt;
     for (double dist : roots) {
         if (!(dist > t_min && dist < t_max)) continue;
         const Vec3 x = ray.at(dist);
@@ -62,6 +74,15 @@ std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min,
         return SurfaceHit{dist, *s, std::clamp(t, 0.0, 1.0), front};
     }
     return std::nullopt;
+}
+
+bool SphereSurface::blocks(const Ray& ray, double t_min, double t_max) const {
+    // A whole sphere: every point of it has parameters (the azimuth range is 2 pi, the polar
+    // one [0, pi]), so a root in range is a hit, as intersect() would find.
+    if (!whole_sphere()) return Surface::blocks(ray, t_min, t_max);
+    double roots[2];
+    if (!sphere_roots(ray, m_center, m_radius, roots)) return false;
+    return (roots[0] > t_min && roots[0] < t_max) || (roots[1] > t_min && roots[1] < t_max);
 }
 
 double SphereSurface::area(double s0, double s1, double t0, double t1) const {

@@ -16,6 +16,7 @@ public:
     void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
     std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
                                         HitSide side) const override;
+    bool blocks(const Ray& ray, double t_min, double t_max) const override;
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
     // Exact: a . P is A(phi) sin(theta) + a_z cos(theta), each factor a shifted cosine.

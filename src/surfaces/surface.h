@@ -62,6 +62,12 @@ public:
     // The nearest crossing with dist in (t_min, t_max) (only front-side ones if asked).
     virtual std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
                                                 HitSide side) const = 0;
+    // Whether the segment (t_min, t_max) of the ray meets the surface on either side: always
+    // intersect(ray, t_min, t_max, HitSide::Any).has_value(), which a type may answer faster
+    // (occlusion tests need no surface parameters).
+    virtual bool blocks(const Ray& ray, double t_min, double t_max) const {
+        return intersect(ray, t_min, t_max, HitSide::Any).has_value();
+    }
 
     // Exact area of the parameter rectangle [s0,s1] x [t0,t1].
     virtual double area(double s0, double s1, double t0, double t1) const = 0;
