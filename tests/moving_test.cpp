@@ -190,17 +190,9 @@ TEST(MovingSurfaces, AFrameIsTheStillOfTheStaticSceneWithTheBallWhereTheFrameHas
         fmt::format(", transform: {{rotate_deg: {{axis: [-1, 0, 0], angle: {:.17g}}}, translate: [{:.17g}, "
                     "{:.17g}, {:.17g}]}}",
                     angle, m.translate.x, m.translate.y, m.translate.z));
-    const Scene still = load_scene((d / "still.yaml").string());
-    const SceneGeometry g(still);
-    const FormFactors ff = compute_form_factors(g, FormFactorOptions::adaptive(kDefaultFormFactorTolerance));
-    const Materials mat = s.materials_at(patch_materials(still), g, s.frame_time(k));
-    const RadiositySolver solver(ff.F, mat.rho, SolverMethod::LU);
-    const NodeRadiosity nodes(g, solver.solve(mat.E), mat.E);
-    RenderOptions ro;
-    ro.width = 40;
-    ro.height = 30;
-    ro.samples = 1;
-    const Image alone = render_image(g, nodes, PinholeCamera(s.camera_at(s.frame_time(k)), 40, 30), ro);
+    const Image alone =
+        test::frame_alone(load_scene((d / "still.yaml").string()), s, k,
+                          FormFactorOptions::adaptive(kDefaultFormFactorTolerance), 40, 30, 1);
     EXPECT_EQ(alone.rgb, frames[static_cast<std::size_t>(k)].rgb);
     fs::remove_all(d);
 }

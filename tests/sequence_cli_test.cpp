@@ -20,6 +20,7 @@
 #include "render/shading.h"
 #include "scene/scene.h"
 #include "schedule/sequence.h"
+#include "test_scenes.h"
 
 namespace radiosa {
 
@@ -187,17 +188,9 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
     const int k = 5;  // mid-ramp, mid-orbit
     const Scene scene = load_scene(kScene);
     const Sequence seq = load_sequence(seq_path.string(), &scene);
-    const SceneGeometry g(scene);
-    const FormFactors ff = compute_form_factors(
-        g, resolve_form_factor_options(scene.form_factors, std::nullopt, std::nullopt, std::nullopt));
-    const Materials m = seq.materials_at(patch_materials(scene), g, seq.frame_time(k));
-    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
-    const NodeRadiosity nodes(g, solver.solve(m.E), m.E);
-    RenderOptions ro;
-    ro.width = 48;
-    ro.height = 40;
-    ro.samples = 2;
-    const Image alone = render_image(g, nodes, PinholeCamera(seq.camera_at(seq.frame_time(k)), 48, 40), ro);
+    const Image alone = test::frame_alone(
+        scene, seq, k,
+        resolve_form_factor_options(scene.form_factors, std::nullopt, std::nullopt, std::nullopt), 48, 40, 2);
     EXPECT_EQ(alone.rgb, two[k].rgb);
     // And the EXR frame on disk holds the same floats.
     EXPECT_EQ(media::read_image(frame_path((d / "f%02d.exr").string(), k)).rgb, alone.rgb);

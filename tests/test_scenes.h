@@ -2,7 +2,14 @@
 // Small scenes shared by the tests, built from YAML strings.
 #include <string>
 
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+#include "render/camera.h"
+#include "render/raycast.h"
+#include "render/shading.h"
 #include "scene/scene.h"
+#include "schedule/sequence.h"
+#include "solve/solver.h"
 
 namespace radiosa::test {
 
@@ -49,5 +56,22 @@ inline const char* kFloor = "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]";
 inline const char* kCeiling = "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]";
 // Unit square in y = 0 facing +y, sharing the edge x in [0,1], y = z = 0 with kFloor.
 inline const char* kWall = "[[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]";
+
+// Frame k of a sequence rendered on its own from `scene` (surfaces placed as the frame has them):
+// form factors from scratch with `options`, an LU solve for the frame's lights and colours, the
+// frame's camera. What a scheduled frame must equal.
+inline Image frame_alone(const Scene& scene, const Sequence& seq, int k, const FormFactorOptions& options,
+                         int width, int height, int samples) {
+    const SceneGeometry g(scene);
+    const FormFactors ff = compute_form_factors(g, options);
+    const Materials m = seq.materials_at(patch_materials(scene), g, seq.frame_time(k));
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    const NodeRadiosity nodes(g, solver.solve(m.E), m.E);
+    RenderOptions ro;
+    ro.width = width;
+    ro.height = height;
+    ro.samples = samples;
+    return render_image(g, nodes, PinholeCamera(seq.camera_at(seq.frame_time(k)), width, height), ro);
+}
 
 }  // namespace radiosa::test

@@ -61,7 +61,7 @@ std::unique_ptr<GeometryState> GeometryStates::place(int g) {
     if (auto cached = find_cached_form_factors(*st->own_scene, *st->geometry, m_base.options, m_request.cache,
                                                &outcome)) {
         st->own_ff = std::make_unique<FormFactors>(std::move(*cached));
-        st->source = "cached";
+        st->cached = true;
     } else {
         // From the state obtained last: the previous frame's, nearest in time.
         const SceneGeometry* from_geometry = &m_base.geometry;
@@ -74,7 +74,6 @@ std::unique_ptr<GeometryState> GeometryStates::place(int g) {
         st->own_ff = std::make_unique<FormFactors>(
             update_form_factors(*from_geometry, *from_ff, *st->geometry, m_base.options, &u));
         st->update = std::move(u);
-        st->source = "updated";
     }
     st->ff = st->own_ff.get();
     st->checks = check_form_factors(*st->ff);

@@ -21,9 +21,9 @@ struct GeometryState {
     const SceneGeometry* geometry = nullptr;
     const FormFactors* ff = nullptr;
     const std::vector<SensorFactors>* sensors = nullptr;
-    // How its form factors were obtained: "scene" (the scene file's own placement: the run's
-    // first matrix), "cached" (a cache file for this placement), "updated" (incrementally).
-    const char* source = "scene";
+    // How its form factors were obtained, when not the scene file's own placement's: from a
+    // cache file for this placement, or by an incremental update (what it recomputed).
+    bool cached = false;
     std::optional<FormFactorUpdate> update;
     FormFactorChecks checks;
     double seconds = 0.0;  // obtaining it (placing, loading or updating, checks, sensors)

@@ -234,7 +234,7 @@ private:
             rec.form_factors = "updated";
             rec.update = st.update;
             rec.entries_recomputed = st.update->entries_recomputed;
-        } else if (std::string_view(st.source) == "cached") {
+        } else if (st.cached) {
             rec.form_factors = "cached";
         }
         rec.form_factors_s += st.seconds;
@@ -399,29 +399,38 @@ nlohmann::json update_json(const std::optional<FormFactorUpdate>& u) {
             {"seconds", u->seconds}};
 }
 
-// The sequence's geometry states and what obtaining them cost (null without motion).
-nlohmann::json motion_json(const SequenceReport& r) {
-    bool moves = false;
-    for (const FrameRecord& f : r.frames) moves = moves || f.plan.geometry != 0;
-    if (!moves && r.geometry_states <= 1) return nullptr;
-    long long recomputed = 0, total = 0, updated = 0, cached = 0;
+// What the incremental updates of a sequence did, summed over its frames.
+struct UpdateTotals {
+    long long recomputed = 0, total = 0, updated = 0, cached = 0;  // cached: states after frame 0
     double seconds = 0.0;
+    double fraction() const { return total > 0 ? static_cast<double>(recomputed) / total : 0.0; }
+};
+
+UpdateTotals update_totals(const SequenceReport& r) {
+    UpdateTotals u;
     for (const FrameRecord& f : r.frames) {
         if (f.update) {
-            ++updated;
-            recomputed += f.update->entries_recomputed;
-            total += f.update->entries_total;
-            seconds += f.update->seconds;
+            ++u.updated;
+            u.recomputed += f.update->entries_recomputed;
+            u.total += f.update->entries_total;
+            u.seconds += f.update->seconds;
         }
-        if (f.form_factors == std::string_view("cached") && &f != &r.frames[0]) ++cached;
+        if (f.form_factors == std::string_view("cached") && &f != &r.frames[0]) ++u.cached;
     }
+    return u;
+}
+
+// The sequence's geometry states and what obtaining them cost (null without motion).
+nlohmann::json motion_json(const SequenceReport& r) {
+    if (!r.moves) return nullptr;
+    const UpdateTotals u = update_totals(r);
     return {{"geometry_states", r.geometry_states},
-            {"states_updated", updated},
-            {"states_cached", cached},
-            {"entries_recomputed", recomputed},
-            {"entries_total", total},
-            {"recomputed_fraction", total > 0 ? static_cast<double>(recomputed) / total : 0.0},
-            {"update_s", seconds},
+            {"states_updated", u.updated},
+            {"states_cached", u.cached},
+            {"entries_recomputed", u.recomputed},
+            {"entries_total", u.total},
+            {"recomputed_fraction", u.fraction()},
+            {"update_s", u.seconds},
             {"closure_max_error", r.prep->scene.closed ? nlohmann::json(r.closure_max_error_over_states)
                                                        : nlohmann::json(nullptr)}};
 }
@@ -458,6 +467,7 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
         r.frames[0].entries_recomputed =
             static_cast<long long>(p.geometry.patch_count()) * p.geometry.patch_count();
     r.geometry_states = static_cast<int>(plan.geometries.size());
+    r.moves = plan.moves();
 
     std::vector<std::unique_ptr<FrameSink>> sinks;
     if (job.palette == 0)
@@ -576,18 +586,11 @@ std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
     s += fmt::format("  {:<13} {:8.3f} s\n", "load", r.load_s);
     s += fmt::format("  {:<13} {:8.3f} s  once, cache {}\n", "form factors", r.form_factors_s,
                      cache_status_name(r.prep->cache.status));
-    if (r.geometry_states > 1) {
-        long long recomputed = 0, total = 0, updated = 0;
-        for (const FrameRecord& f : r.frames)
-            if (f.update) {
-                ++updated;
-                recomputed += f.update->entries_recomputed;
-                total += f.update->entries_total;
-            }
+    if (r.moves) {
+        const UpdateTotals u = update_totals(r);
         s += fmt::format(
             "  {:<13}    {} geometry states, {} updated: {} of {} entries recomputed ({:.2f} %)\n", "moving",
-            r.geometry_states, updated, recomputed, total,
-            total > 0 ? 100.0 * static_cast<double>(recomputed) / total : 0.0);
+            r.geometry_states, u.updated, u.recomputed, u.total, 100.0 * u.fraction());
     }
     s += fmt::format(
         "  {:<13} {:8.3f} s  {} reflectance set(s): {} channel factorisation(s); {} distinct "

@@ -75,6 +75,7 @@ struct SequenceReport {
     std::vector<FrameRecord> frames;
     // Moving surfaces: the geometry states (1 without motion) and the worst closure over them.
     int geometry_states = 1;
+    bool moves = false;  // some frame places a surface elsewhere than the scene file (Plan::moves)
     double closure_max_error_over_states = 0.0;
     // Per solution of the plan (FramePlan::solution), per scene sensor: its irradiance.
     std::vector<std::vector<Rgb>> sensor_irradiance;
