@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 
+#include "formfactor/blocker_set.h"
 #include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
 #include "formfactor/culling.h"
@@ -80,6 +81,7 @@ public:
                      const std::vector<int>& blockers, FormFactorStats* st) const {
         // Segment ends are excluded from the occlusion test by this fraction of their length.
         constexpr double kEndEps = 1e-9;
+        const BlockerSet guard(m_geo, m_opt.visibility ? blockers : std::vector<int>{});
         double sum = 0.0;
         long long tests = 0;
         for (const QuadPoint& a : a_pts)
@@ -89,18 +91,7 @@ public:
                 if (ci <= 0.0) continue;  // b is behind a's tangent plane (or on it)
                 const double cj = -glm::dot(b.nw, e);
                 if (cj <= 0.0) continue;
-                if (m_opt.visibility && !blockers.empty()) {
-                    const Ray seg{a.x, e};
-                    bool blocked = false;
-                    for (int k : blockers) {
-                        ++tests;
-                        if (m_geo.surface(k).blocks(seg, kEndEps, 1.0 - kEndEps)) {
-                            blocked = true;
-                            break;
-                        }
-                    }
-                    if (blocked) continue;
-                }
+                if (!guard.empty() && guard.blocked(a.x, e, kEndEps, 1.0 - kEndEps, &tests)) continue;
                 const double l2 = glm::dot(e, e);
                 sum += ci * cj / (l2 * l2);
             }
@@ -378,7 +369,7 @@ public:
         const Patch& pj = m_geo.patch(j);
         const Surface& si = m_geo.surface(pi.surface);
         const Surface& sj = m_geo.surface(pj.surface);
-        const bool test = m_opt.visibility && !blockers.empty();
+        const BlockerSet guard(m_geo, m_opt.visibility ? blockers : std::vector<int>{});
         double inner_err = 0.0;
         long long tests = 0;
         auto g = [&](double s, double t) {
@@ -396,13 +387,7 @@ public:
                 if (cj <= 0.0) return 0.0;
                 const double l2 = glm::dot(e, e);
                 if (!(l2 > 1e-24 * m_geo.scale() * m_geo.scale())) return 0.0;
-                if (test) {
-                    const Ray seg{x, e};
-                    for (int k : blockers) {
-                        ++tests;
-                        if (m_geo.surface(k).blocks(seg, 1e-9, 1.0 - 1e-9)) return 0.0;
-                    }
-                }
+                if (!guard.empty() && guard.blocked(x, e, 1e-9, 1.0 - 1e-9, &tests)) return 0.0;
                 return ci * cj / (kPi * da * l2 * l2);
             };
             // The inner integral by two Gauss rules over the whole receiver: their difference

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "formfactor/blocker_set.h"
 #include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
 #include "formfactor/point_polygon.h"
@@ -127,6 +128,7 @@ Estimate by_cubature(const SceneGeometry& g, const Vec3& x, const Vec3& n, const
                      const std::vector<int>& blockers, double tol) {
     const Surface& sj = g.surface(pj.surface);
     const double floor2 = 1e-24 * g.scale() * g.scale();
+    const BlockerSet guard(g, blockers);
     auto h = [&](double u, double w) {
         const Vec3 e = sj.point(u, w) - x;
         const double ci = glm::dot(n, e);
@@ -135,9 +137,8 @@ Estimate by_cubature(const SceneGeometry& g, const Vec3& x, const Vec3& n, const
         if (cj <= 0.0) return 0.0;
         const double l2 = glm::dot(e, e);
         if (!(l2 > floor2)) return 0.0;
-        const Ray seg{x, e};
-        for (int k : blockers)
-            if (g.surface(k).blocks(seg, 1e-9, 1.0 - 1e-9)) return 0.0;
+        long long tests = 0;
+        if (guard.blocked(x, e, 1e-9, 1.0 - 1e-9, &tests)) return 0.0;
         return ci * cj / (kPi * l2 * l2);
     };
     const Rect root{pj.s0, pj.s1, pj.t0, pj.t1};

@@ -1,0 +1,86 @@
+#pragma once
+// The surfaces that may block segments between two patches, each with its bounding sphere. A
+// segment that keeps clear of a blocker's bounding sphere by a margin far above rounding cannot
+// meet the blocker; a segment that dips deep into a whole sphere while both its ends stay well
+// outside certainly crosses it. Both are answered without asking the surface, so only segments
+// that graze a blocker pay for its exact test (a virtual call, a transform for a placed surface,
+// square roots). The guard answers only where the exact test's answer is certain, so matrices
+// are bit for bit what testing every blocker gives.
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+
+namespace radiosa {
+
+class BlockerSet {
+public:
+    BlockerSet(const SceneGeometry& g, const std::vector<int>& blockers) {
+        m_items.reserve(blockers.size());
+        // Distances are computed to within a few ulps of the scene's size; 1e-9 of it is a
+        // margin no rounding reaches.
+        const double margin = 1e-9 * g.scale();
+        for (const int k : blockers) {
+            const Surface& s = g.surface(k);
+            const BoundingSphere& b = g.surface_bound(k);
+            const double r = b.radius + margin;
+            Item it{&s, b.center, r * r, -1.0, 0.0, -1.0};
+            // A whole sphere: segments are certain to cross it when they pass inside it by
+            // kDeep of its radius (and that is far above rounding) with both ends outside.
+            if (const auto sph = s.sphere(); sph && s.whole_sphere() && kDeep * sph->radius > margin) {
+                it.center = sph->center;
+                it.reach2 = (sph->radius + margin) * (sph->radius + margin);
+                it.inner2 = (sph->radius * (1.0 - kDeep)) * (sph->radius * (1.0 - kDeep));
+                it.depth = kDeep * sph->radius;
+                it.outer2 = (sph->radius * (1.0 + kDeep)) * (sph->radius * (1.0 + kDeep));
+            }
+            m_items.push_back(it);
+        }
+    }
+    bool empty() const { return m_items.empty(); }
+
+    // True when a blocker meets the segment x + t e, t_min < t < t_max (0 <= t_min, t_max <= 1).
+    // *tests counts the blockers asked, guarded or not.
+    bool blocked(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests) const {
+        const double l2 = glm::dot(e, e);
+        for (const Item& it : m_items) {
+            ++*tests;
+            const Vec3 oc = x - it.center;
+            const double b = glm::dot(oc, e);
+            Vec3 closest = oc;  // t = 0
+            if (b < 0.0) closest = -b >= l2 ? oc + e : oc - (b / l2) * e;
+            const double d2 = glm::dot(closest, closest);
+            if (d2 > it.reach2) continue;
+            if (crosses(it, oc, e, d2, l2, t_min, t_max)) return true;
+            if (it.surface->blocks(Ray{x, e}, t_min, t_max)) return true;
+        }
+        return false;
+    }
+
+private:
+    static constexpr double kDeep = 1e-6;
+
+    struct Item {
+        const Surface* surface;
+        Vec3 center;
+        double reach2;  // (bounding radius + margin)^2
+        double inner2;  // whole spheres: (R (1 - kDeep))^2, else negative
+        double depth;   // kDeep R
+        double outer2;  // (R (1 + kDeep))^2
+    };
+
+    // True when the segment certainly crosses a whole sphere between t_min and t_max: its
+    // closest point lies inside by kDeep R and both ends lie outside by kDeep R, so the line
+    // enters and leaves the ball at parameters at least depth / |e| from either end.
+    static bool crosses(const Item& it, const Vec3& oc, const Vec3& e, double d2, double l2, double t_min,
+                        double t_max) {
+        if (!(d2 < it.inner2) || glm::dot(oc, oc) <= it.outer2) return false;
+        const Vec3 end = oc + e;
+        if (glm::dot(end, end) <= it.outer2) return false;
+        const double gap = 0.5 * it.depth;  // half of the certain distance, in length
+        return gap * gap > l2 * t_min * t_min && gap * gap > l2 * (1.0 - t_max) * (1.0 - t_max);
+    }
+
+    std::vector<Item> m_items;
+};
+
+}  // namespace radiosa
