@@ -6,6 +6,9 @@
 // that graze a blocker pay for its exact test (a virtual call, a transform for a placed surface,
 // square roots). The guard answers only where the exact test's answer is certain, so matrices
 // are bit for bit what testing every blocker gives.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "geometry/scene_geometry.h"
@@ -38,17 +41,35 @@ public:
     }
     bool empty() const { return m_items.empty(); }
 
-    // True when a blocker meets the segment x + t e, t_min < t < t_max (0 <= t_min, t_max <= 1).
-    // *tests counts the blockers asked, guarded or not.
-    bool blocked(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests) const {
+    // The blockers (as bits, in list order; a list longer than 64 keeps every one from the 64th
+    // on) that may meet some segment from x to a point within `radius` of `center`: a segment
+    // from x to such a point lies within `radius` of the segment from x to the centre.
+    std::uint64_t near(const Vec3& x, const Vec3& center, double radius) const {
+        std::uint64_t mask = 0;
+        const Vec3 e = center - x;
         const double l2 = glm::dot(e, e);
-        for (const Item& it : m_items) {
+        for (std::size_t k = 0; k < m_items.size(); ++k) {
+            const Item& it = m_items[k];
+            const double reach = std::sqrt(it.reach2) + radius;
+            if (k >= 63 || distance2(x - it.center, e, l2) <= reach * reach)
+                mask |= std::uint64_t{1} << std::min<std::size_t>(k, 63);
+        }
+        return mask;
+    }
+
+    // True when a blocker meets the segment x + t e, t_min < t < t_max (0 <= t_min, t_max <= 1),
+    // among those in `mask` (from near(x, ...) for a segment's far end in that ball). *tests
+    // counts the blockers in the pair's list up to the one that blocks (all when none does),
+    // whether the guard, the mask or the surface answered.
+    bool blocked(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests,
+                 std::uint64_t mask = ~std::uint64_t{0}) const {
+        const double l2 = glm::dot(e, e);
+        for (std::size_t k = 0; k < m_items.size(); ++k) {
             ++*tests;
+            if (!(mask >> std::min<std::size_t>(k, 63) & 1)) continue;
+            const Item& it = m_items[k];
             const Vec3 oc = x - it.center;
-            const double b = glm::dot(oc, e);
-            Vec3 closest = oc;  // t = 0
-            if (b < 0.0) closest = -b >= l2 ? oc + e : oc - (b / l2) * e;
-            const double d2 = glm::dot(closest, closest);
+            const double d2 = distance2(oc, e, l2);
             if (d2 > it.reach2) continue;
             if (crosses(it, oc, e, d2, l2, t_min, t_max)) return true;
             if (it.surface->blocks(Ray{x, e}, t_min, t_max)) return true;
@@ -67,6 +88,15 @@ private:
         double depth;   // kDeep R
         double outer2;  // (R (1 + kDeep))^2
     };
+
+    // The squared distance from a point to the segment oc + t e, 0 <= t <= 1 (l2 = |e|^2),
+    // with the point at the origin.
+    static double distance2(const Vec3& oc, const Vec3& e, double l2) {
+        const double b = glm::dot(oc, e);
+        Vec3 closest = oc;  // t = 0
+        if (b < 0.0) closest = -b >= l2 ? oc + e : oc - (b / l2) * e;
+        return glm::dot(closest, closest);
+    }
 
     // True when the segment certainly crosses a whole sphere between t_min and t_max: its
     // closest point lies inside by kDeep R and both ends lie outside by kDeep R, so the line

@@ -26,7 +26,21 @@ std::pair<double, double> extent(const SceneGeometry& g, const Patch& p, const P
 
 }  // namespace
 
-Culling::Culling(const SceneGeometry& g) : m_geo(g), m_eps(1e-12 * g.scale()) {}
+Culling::Culling(const SceneGeometry& g) : m_geo(g), m_eps(1e-12 * g.scale()) {
+    const Vec3 axes[3] = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    m_surface_axes.resize(static_cast<std::size_t>(g.surface_count()));
+    for (int k = 0; k < g.surface_count(); ++k)
+        for (int a = 0; a < 3; ++a)
+            m_surface_axes[static_cast<std::size_t>(k)][a] =
+                g.surface(k).linear_range(axes[a], 0.0, 1.0, 0.0, 1.0);
+    m_patch_axes.resize(static_cast<std::size_t>(g.patch_count()));
+    for (int i = 0; i < g.patch_count(); ++i) {
+        const Patch& p = g.patch(i);
+        for (int a = 0; a < 3; ++a)
+            m_patch_axes[static_cast<std::size_t>(i)][a] =
+                g.surface(p.surface).linear_range(axes[a], p.s0, p.s1, p.t0, p.t1);
+    }
+}
 
 // True when no energy can pass between the two patches: either one lies entirely
 // behind or in the plane of the other (this covers patches of one planar surface), or
@@ -67,22 +81,24 @@ bool Culling::hull_misses(const Patch& pi, const Patch& pj, const Surface& s) co
 // it (touching allowed): then no segment between the patches meets k. The slabs tried are
 // normal to the axes and to the line between the patches' centres; the ranges are exact
 // (Surface::linear_range), so a table top under a lamp is told apart from the lamp.
-bool Culling::slab_separates(const Patch& pi, const Patch& pj, int k) const {
-    const Surface& si = m_geo.surface(pi.surface);
-    const Surface& sj = m_geo.surface(pj.surface);
-    const Surface& sk = m_geo.surface(k);
+bool Culling::slab_separates(int i, int j, int k) const {
+    const Patch& pi = m_geo.patch(i);
+    const Patch& pj = m_geo.patch(j);
+    auto apart = [&](std::pair<double, double> ri, std::pair<double, double> rj,
+                     std::pair<double, double> rk) {
+        const double lo = std::min(ri.first, rj.first), hi = std::max(ri.second, rj.second);
+        return rk.second <= lo + m_eps || rk.first >= hi - m_eps;
+    };
+    for (int a = 0; a < 3; ++a)
+        if (apart(m_patch_axes[static_cast<std::size_t>(i)][a], m_patch_axes[static_cast<std::size_t>(j)][a],
+                  m_surface_axes[static_cast<std::size_t>(k)][a]))
+            return true;
     const Vec3 between = pj.bound.center - pi.bound.center;
     const double len = glm::length(between);
-    const Vec3 dirs[4] = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
-                          len > 0.0 ? between / len : Vec3(1, 0, 0)};
-    for (const Vec3& a : dirs) {
-        const auto ri = si.linear_range(a, pi.s0, pi.s1, pi.t0, pi.t1);
-        const auto rj = sj.linear_range(a, pj.s0, pj.s1, pj.t0, pj.t1);
-        const auto rk = sk.linear_range(a, 0.0, 1.0, 0.0, 1.0);
-        const double lo = std::min(ri.first, rj.first), hi = std::max(ri.second, rj.second);
-        if (rk.second <= lo + m_eps || rk.first >= hi - m_eps) return true;
-    }
-    return false;
+    const Vec3 a = len > 0.0 ? between / len : Vec3(1, 0, 0);
+    return apart(m_geo.surface(pi.surface).linear_range(a, pi.s0, pi.s1, pi.t0, pi.t1),
+                 m_geo.surface(pj.surface).linear_range(a, pj.s0, pj.s1, pj.t0, pj.t1),
+                 m_geo.surface(k).linear_range(a, 0.0, 1.0, 0.0, 1.0));
 }
 
 bool Culling::can_block(int i, int j, int k) const {
@@ -114,7 +130,7 @@ bool Culling::can_block(int i, int j, int k) const {
     if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach) return false;
     const bool own = on_i || on_j || back_i || back_j;
     if (own) return true;
-    if (slab_separates(pi, pj, k)) return false;
+    if (slab_separates(i, j, k)) return false;
     return !(pi.polygon && pj.polygon && hull_misses(pi, pj, s));
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Work proven useless, left out of the form-factor integrals: pairs that cannot exchange energy,
 // and surfaces that cannot come between a pair (so no segment between them is tested).
+#include <array>
+#include <utility>
 #include <vector>
 
 #include "formfactor/form_factor.h"
@@ -25,9 +27,13 @@ public:
 
 private:
     bool hull_misses(const Patch& pi, const Patch& pj, const Surface& s) const;
-    bool slab_separates(const Patch& pi, const Patch& pj, int k) const;
+    bool slab_separates(int i, int j, int k) const;
     const SceneGeometry& m_geo;
     double m_eps;
+    // Exact extents along x, y and z (Surface::linear_range), asked for every pair a slab is
+    // tried on: per surface (whole) and per patch.
+    using AxisRanges = std::array<std::pair<double, double>, 3>;
+    std::vector<AxisRanges> m_surface_axes, m_patch_axes;
 };
 
 }  // namespace radiosa

@@ -53,6 +53,16 @@ private:
     FormFactorStats* m_st;
 };
 
+// The centroid of the points and the largest distance from it.
+BoundingSphere bound_of(const std::vector<QuadPoint>& pts) {
+    Vec3 c(0.0);
+    for (const QuadPoint& p : pts) c += p.x;
+    c /= static_cast<double>(std::max<std::size_t>(pts.size(), 1));
+    double r2 = 0.0;
+    for (const QuadPoint& p : pts) r2 = std::max(r2, glm::dot(p.x - c, p.x - c));
+    return {c, std::sqrt(r2)};
+}
+
 class Integrator {
 public:
     Integrator(const SceneGeometry& g, const FormFactorOptions& o) : m_geo(g), m_opt(o), m_cull(g) {
@@ -82,19 +92,25 @@ public:
         // Segment ends are excluded from the occlusion test by this fraction of their length.
         constexpr double kEndEps = 1e-9;
         const BlockerSet guard(m_geo, m_opt.visibility ? blockers : std::vector<int>{});
+        // The ball holding b's nodes: a blocker far from every segment from a node a to it is
+        // left out of that node's tests.
+        BoundingSphere ends{Vec3(0.0), 0.0};
+        if (!guard.empty()) ends = bound_of(b_pts);
         double sum = 0.0;
         long long tests = 0;
-        for (const QuadPoint& a : a_pts)
+        for (const QuadPoint& a : a_pts) {
+            const std::uint64_t mask = guard.empty() ? 0 : guard.near(a.x, ends.center, ends.radius);
             for (const QuadPoint& b : b_pts) {
                 const Vec3 e = b.x - a.x;
                 const double ci = glm::dot(a.nw, e);
                 if (ci <= 0.0) continue;  // b is behind a's tangent plane (or on it)
                 const double cj = -glm::dot(b.nw, e);
                 if (cj <= 0.0) continue;
-                if (!guard.empty() && guard.blocked(a.x, e, kEndEps, 1.0 - kEndEps, &tests)) continue;
+                if (!guard.empty() && guard.blocked(a.x, e, kEndEps, 1.0 - kEndEps, &tests, mask)) continue;
                 const double l2 = glm::dot(e, e);
                 sum += ci * cj / (l2 * l2);
             }
+        }
         st->segment_tests += tests;
         return sum;
     }

@@ -81,7 +81,7 @@ struct FormFactorStats {
     long long occluder_checks = 0;   // (pair, surface) combinations considered as possible blockers
     long long occluders_culled = 0;  // ... of which proven unable to block (no per-point tests)
     long long pairs_unoccluded = 0;  // computed pairs that no surface can block: no occlusion tests at all
-    long long segment_tests = 0;     // exact segment-surface intersection tests performed
+    long long segment_tests = 0;     // segment-occluder tests (by the bounding-sphere guard or exactly)
     // Error-controlled mode: how each computed direction of a pair was integrated.
     long long closed_form = 0;     // pairs exact to round-off: unoccluded polygons (contour integral),
                                    // two patches of the inside of one sphere (A_j / 4 pi R^2)
