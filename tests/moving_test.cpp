@@ -77,6 +77,10 @@ TEST(MovingSurfaces, AnUpdateIsTheMatrixComputedFromScratchAndAStaticSceneHasIts
         FormFactorUpdate u;
         const FormFactors updated = update_form_factors(g0, before, g1, o, &u);
         expect_same_bits(updated, compute_form_factors(gw, o));
+        // Updated in place (a state past its last frame gives its matrix up): the same bits.
+        FormFactors spare = before;
+        FormFactorUpdate in_place;
+        expect_same_bits(update_form_factors(g0, std::move(spare), g1, o, &in_place), updated);
         // And back again: the update of the update is the first matrix.
         FormFactorUpdate back;
         expect_same_bits(update_form_factors(g1, updated, g0, o, &back), before);

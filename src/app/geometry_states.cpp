@@ -66,13 +66,22 @@ std::unique_ptr<GeometryState> GeometryStates::place(int g) {
         // From the state obtained last: the previous frame's, nearest in time.
         const SceneGeometry* from_geometry = &m_base.geometry;
         const FormFactors* from_ff = &m_base.ff;
-        if (m_last >= 0) {
-            from_geometry = m_states[static_cast<std::size_t>(m_last)]->geometry;
-            from_ff = m_states[static_cast<std::size_t>(m_last)]->ff;
+        GeometryState* last = m_last >= 0 ? m_states[static_cast<std::size_t>(m_last)].get() : nullptr;
+        if (last) {
+            from_geometry = last->geometry;
+            from_ff = last->ff;
         }
         FormFactorUpdate u;
-        st->own_ff = std::make_unique<FormFactors>(
-            update_form_factors(*from_geometry, *from_ff, *st->geometry, m_base.options, &u));
+        // A moved state past its last frame is released once this one is obtained: its matrix
+        // is updated in place instead of copied (N^2 entries: 0.8 s at 5,000 patches).
+        if (last && last->own_ff && m_done[static_cast<std::size_t>(m_last)] != 0) {
+            st->own_ff = std::make_unique<FormFactors>(update_form_factors(
+                *from_geometry, std::move(*last->own_ff), *st->geometry, m_base.options, &u));
+            last->ff = nullptr;
+        } else {
+            st->own_ff = std::make_unique<FormFactors>(
+                update_form_factors(*from_geometry, *from_ff, *st->geometry, m_base.options, &u));
+        }
         st->update = std::move(u);
     }
     st->ff = st->own_ff.get();

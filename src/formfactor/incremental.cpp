@@ -5,6 +5,7 @@
 
 #include <mutex>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "formfactor/culling.h"
@@ -81,7 +82,7 @@ std::vector<std::vector<int>> select_pairs(const SceneGeometry& from, const Scen
 
 }  // namespace
 
-FormFactors update_form_factors(const SceneGeometry& from_geometry, const FormFactors& from,
+FormFactors update_form_factors(const SceneGeometry& from_geometry, FormFactors&& from,
                                 const SceneGeometry& to_geometry, const FormFactorOptions& options,
                                 FormFactorUpdate* update) {
     const Stopwatch clock;
@@ -114,7 +115,7 @@ FormFactors update_form_factors(const SceneGeometry& from_geometry, const FormFa
     update->pairs_shadowed = counts.shadowed;
     update->pairs_unchanged = counts.unchanged;
     update->entries_recomputed = counts.entries;
-    FormFactors ff = from;
+    FormFactors ff = std::move(from);
     ff.options = options;
     ff.stats = FormFactorStats{};
     const Stopwatch compute_clock;
@@ -122,6 +123,17 @@ FormFactors update_form_factors(const SceneGeometry& from_geometry, const FormFa
     computer.compute_pairs(rows, &ff, &ff.stats);
     update->compute_s = compute_clock.seconds();
     update->stats = ff.stats;
+    update->seconds = clock.seconds();
+    ff.stats.seconds = update->seconds;
+    return ff;
+}
+
+FormFactors update_form_factors(const SceneGeometry& from_geometry, const FormFactors& from,
+                                const SceneGeometry& to_geometry, const FormFactorOptions& options,
+                                FormFactorUpdate* update) {
+    const Stopwatch clock;
+    FormFactors copy = from;
+    FormFactors ff = update_form_factors(from_geometry, std::move(copy), to_geometry, options, update);
     update->seconds = clock.seconds();
     ff.stats.seconds = update->seconds;
     return ff;

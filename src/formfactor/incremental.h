@@ -37,5 +37,10 @@ struct FormFactorUpdate {
 FormFactors update_form_factors(const SceneGeometry& from_geometry, const FormFactors& from,
                                 const SceneGeometry& to_geometry, const FormFactorOptions& options,
                                 FormFactorUpdate* update);
+// The same, updating `from` in place when the caller has no further use for it (a sequence's
+// previous state after its last frame): no copy of the N^2 entries.
+FormFactors update_form_factors(const SceneGeometry& from_geometry, FormFactors&& from,
+                                const SceneGeometry& to_geometry, const FormFactorOptions& options,
+                                FormFactorUpdate* update);
 
 }  // namespace radiosa
