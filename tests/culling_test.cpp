@@ -1,6 +1,8 @@
 // Leaving out what a scene does not need: pairs that cannot see each other get no quadrature,
 // surfaces that cannot come between a pair get no occlusion tests, identical channels share
 // one solve. Culling must change the work, never the answer; the report counts what it saved.
+#include "formfactor/culling.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -67,6 +69,47 @@ TEST(Culling, ConvexSceneNeedsNoOcclusionTests) {
     EXPECT_EQ(ff.stats.segment_tests, 0);
     EXPECT_EQ(ff.stats.numeric, 0);
     EXPECT_LT(check_form_factors(ff).closure_max_error, 1e-6);
+}
+
+// A whole-surface proof (the incremental update asks it once per patch and surface) holds for
+// each of the surface's patches: a ball and a floating plate at many places in a box.
+TEST(Culling, ASurfaceWideProofHoldsForEveryPatchOfTheSurface) {
+    std::string walls;
+    const char* faces[6] = {
+        "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]", "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]",
+        "[[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]", "[[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]]",
+        "[[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]]", "[[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]]"};
+    for (int k = 0; k < 6; ++k)
+        walls += "  - {name: f" + std::to_string(k) + ", type: quad, corners: " + faces[k] +
+                 ", patches: [4, 4], reflectance: [0.5, 0.5, 0.5]}\n";
+    long long proven = 0, pairs = 0;
+    for (int place = 0; place < 8; ++place) {
+        const double x = 0.2 + 0.6 * ((place * 37) % 8) / 7.0, y = 0.2 + 0.6 * ((place * 11) % 8) / 7.0;
+        const std::string yaml =
+            "closed: false\nsurfaces:\n" + walls + "  - {name: ball, type: sphere, center: [" +
+            std::to_string(x) + ", " + std::to_string(y) +
+            ", 0.15], radius: 0.12, patches: [4, 2], reflectance: [0.5, 0.5, 0.5]}\n" +
+            "  - {name: plate, type: quad, corners: [[" + std::to_string(y) + ", 0.3, 0.6], [" +
+            std::to_string(y + 0.2) + ", 0.3, 0.6], [" + std::to_string(y + 0.2) + ", 0.5, 0.7], [" +
+            std::to_string(y) + ", 0.5, 0.7]], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+        const SceneGeometry g(parse_scene(yaml, "box.yaml"));
+        const Culling c(g);
+        for (const int k : {6, 7})
+            for (int i = 0; i < 96; ++i)
+                for (int b = 0; b < 6; ++b) {
+                    if (c.can_block_any(i, b, k)) continue;
+                    ++proven;
+                    for (int j = 0; j < g.patch_count(); ++j)
+                        if (g.patch(j).surface == b) {
+                            ++pairs;
+                            EXPECT_FALSE(c.can_block(i, j, k))
+                                << "place " << place << " k " << k << " i " << i << " j " << j;
+                        }
+                }
+    }
+    // The proofs are used (and not only for surfaces out of the way).
+    EXPECT_GT(proven, 1000);
+    EXPECT_GT(pairs, 16 * proven - 1);
 }
 
 // The report's "left_out" block: the seed scene's culling counts and its shared solves (red and

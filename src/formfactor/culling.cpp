@@ -77,6 +77,31 @@ bool Culling::hull_misses(const Patch& pi, const Patch& pj, const Surface& s) co
     return false;
 }
 
+bool Culling::can_block_any(int i, int b, int k) const {
+    const Patch& pi = m_geo.patch(i);
+    const Surface& sb = m_geo.surface(b);
+    const Surface& sk = m_geo.surface(k);
+    if (!pi.polygon || !sb.patches_are_polygons() || k == pi.surface || k == b ||
+        m_geo.twin(k) == pi.surface || m_geo.twin(k) == b)
+        return true;
+    // Every patch of b lies in the quad of b's corners, so every pair's hull lies in this one;
+    // the slack keeps rounding from proving here what the pair's own test would not.
+    const std::array<Vec3, 8> hull = {pi.corners[0],      pi.corners[1],      pi.corners[2],
+                                      pi.corners[3],      sb.point(0.0, 0.0), sb.point(1.0, 0.0),
+                                      sb.point(1.0, 1.0), sb.point(0.0, 1.0)};
+    const double slack = 1e-9 * m_geo.scale();
+    if (const auto sph = sk.sphere()) {
+        const std::array<Vec3, 1> c = {sph->center};
+        const double margin = sph->radius + m_eps + slack;
+        return !(convex_distance(hull, c, margin) > margin);
+    }
+    if (sk.plane() && sk.patches_are_polygons()) {
+        const std::array<Vec3, 4> q = {sk.point(0, 0), sk.point(1, 0), sk.point(1, 1), sk.point(0, 1)};
+        return !(convex_distance(hull, q, m_eps + slack) > m_eps + slack);
+    }
+    return true;
+}
+
 // True when a slab between two parallel planes holds both patches and surface k lies outside
 // it (touching allowed): then no segment between the patches meets k. The slabs tried are
 // normal to the axes and to the line between the patches' centres; the ranges are exact

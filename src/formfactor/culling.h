@@ -21,6 +21,10 @@ public:
     bool culled(int i, int j) const;
     // False when surface k is proven unable to block any segment between the two patches.
     bool can_block(int i, int j, int k) const;
+    // False when surface k is proven unable to block any segment between patch i and any
+    // patch of surface b, so can_block(i, j, k) is false for each of them: for a polygon patch
+    // and a quad, from the hull of the patch and the whole quad. True when nothing is proven.
+    bool can_block_any(int i, int b, int k) const;
     // Surfaces that might block a segment between the two patches (every surface when
     // culling is off); the rest are proven unable to.
     void occluders(int i, int j, bool culling, std::vector<int>* out, FormFactorStats* st) const;

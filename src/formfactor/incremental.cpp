@@ -46,15 +46,24 @@ std::vector<std::vector<int>> select_pairs(const SceneGeometry& from, const Scen
     std::mutex merge;
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), [&](const tbb::blocked_range<int>& r) {
         Counts local;
+        std::vector<char> clear(static_cast<std::size_t>(to.surface_count()));
         for (int i = r.begin(); i != r.end(); ++i) {
             std::vector<int>& row = rows[static_cast<std::size_t>(i)];
             const bool moved_i = moved[static_cast<std::size_t>(to.patch(i).surface)] != 0;
+            // Surfaces none of whose patches a moved surface can come between with i, proven
+            // once for the whole surface (which would otherwise cost a test per pair).
+            for (int b = 0; b < to.surface_count(); ++b) {
+                char& c = clear[static_cast<std::size_t>(b)];
+                c = moved_i || moved[static_cast<std::size_t>(b)] != 0 ? 0 : 1;
+                for (const int k : moved_surfaces)
+                    if (c && (before.can_block_any(i, b, k) || after.can_block_any(i, b, k))) c = 0;
+            }
             for (int j = i; j < n; ++j) {
                 bool redo =
                     everything || moved_i || moved[static_cast<std::size_t>(to.patch(j).surface)] != 0;
                 if (redo) {
                     ++local.moved;
-                } else if (!after.culled(i, j)) {
+                } else if (!clear[static_cast<std::size_t>(to.patch(j).surface)] && !after.culled(i, j)) {
                     // Culled pairs depend on their own two patches only: zero before and after.
                     for (const int k : moved_surfaces)
                         if (before.can_block(i, j, k) || after.can_block(i, j, k)) {
