@@ -116,8 +116,8 @@ public:
     }
 
     // F(i, j) and F(j, i), j >= i, into entries that hold zeros (they are zeroed first).
-    void pair(int i, int j, DenseMatrix* F, std::vector<int>& blockers, FormFactorStats* st) const {
-        (*F)(i, j) = (*F)(j, i) = 0.0;
+    void pair(int i, int j, PairEntries* out, std::vector<int>& blockers, FormFactorStats* st) const {
+        *out = PairEntries{};
         ++st->pairs;
         const bool self = i == j;
         if (self ? m_self_points[i].empty() : culled(i, j)) {
@@ -127,8 +127,8 @@ public:
         const PairClock clock(m_geo, i, j, st);  // pairs proven zero cost nothing worth timing
         occluders(i, j, &blockers, st);
         const double g = integrate(m_points[i], self ? m_self_points[i] : m_points[j], blockers, st);
-        (*F)(i, j) = g / (kPi * m_geo.patch(i).area);
-        if (!self) (*F)(j, i) = g / (kPi * m_geo.patch(j).area);
+        out->f_ij = g / (kPi * m_geo.patch(i).area);
+        if (!self) out->f_ji = g / (kPi * m_geo.patch(j).area);
     }
 
 private:
@@ -464,12 +464,8 @@ public:
     }
 
     // F(i, j) and F(j, i), j >= i, and their estimates (zeroed first).
-    void pair(int i, int j, DenseMatrix* F, std::vector<double>* E, std::vector<int>& blockers,
-              FormFactorStats* st) const {
-        const auto n = static_cast<std::size_t>(m_geo.patch_count());
-        (*F)(i, j) = (*F)(j, i) = 0.0;
-        (*E)[static_cast<std::size_t>(i) * n + static_cast<std::size_t>(j)] = 0.0;
-        (*E)[static_cast<std::size_t>(j) * n + static_cast<std::size_t>(i)] = 0.0;
+    void pair(int i, int j, PairEntries* out, std::vector<int>& blockers, FormFactorStats* st) const {
+        *out = PairEntries{};
         const double tol = m_opt.tolerance;
         ++st->pairs;
         const bool self = i == j;
@@ -480,9 +476,11 @@ public:
         }
         const PairClock clock(m_geo, i, j, st);  // pairs proven zero cost nothing worth timing
         m_base.occluders(i, j, &blockers, st);
-        auto set = [&](int a, int b, const Estimate& e, double area_a) {
-            (*F)(a, b) = e.value / area_a;
-            (*E)[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = e.error / area_a;
+        // Entry (a, b): (i, j) when a is i (a self pair included), else (j, i).
+        auto set = [&](int a, int /*b*/, const Estimate& e, double area_a) {
+            const bool forward = a == i;
+            (forward ? out->f_ij : out->f_ji) = e.value / area_a;
+            (forward ? out->e_ij : out->e_ji) = e.error / area_a;
         };
         if (const std::optional<Estimate> e = closed_form(i, j, blockers)) {
             ++st->closed_form;
@@ -587,6 +585,22 @@ void FormFactorRows::compute_pairs(const std::vector<std::vector<int>>& pairs, F
     compute_rows(0, patch_count(), &pairs, ff, stats, {});
 }
 
+PairEntries FormFactorRows::pair(int i, int j, FormFactorStats* stats) const {
+    if (j < i) {
+        PairEntries e = pair(j, i, stats);
+        std::swap(e.f_ij, e.f_ji);
+        std::swap(e.e_ij, e.e_ji);
+        return e;
+    }
+    PairEntries e;
+    std::vector<int> blockers;
+    if (m->options.method == FormFactorMethod::Adaptive)
+        m->adaptive.pair(i, j, &e, blockers, stats);
+    else
+        m->integrator.pair(i, j, &e, blockers, stats);
+    return e;
+}
+
 void FormFactorRows::compute_rows(int begin, int end, const std::vector<std::vector<int>>* pairs,
                                   FormFactors* ff, FormFactorStats* stats,
                                   const PairProgress& progress) const {
@@ -598,11 +612,20 @@ void FormFactorRows::compute_rows(int begin, int end, const std::vector<std::vec
     tbb::parallel_for(tbb::blocked_range<int>(begin, end, 1), [&](const tbb::blocked_range<int>& r) {
         FormFactorStats local;
         std::vector<int> blockers;
+        const auto nn = static_cast<std::size_t>(n);
         auto one = [&](int i, int j) {
+            PairEntries e;
             if (controlled)
-                m->adaptive.pair(i, j, &ff->F, &ff->error, blockers, &local);
+                m->adaptive.pair(i, j, &e, blockers, &local);
             else
-                m->integrator.pair(i, j, &ff->F, blockers, &local);
+                m->integrator.pair(i, j, &e, blockers, &local);
+            // A self pair (i == j) has one entry, f_ij: written last.
+            ff->F(j, i) = e.f_ji;
+            ff->F(i, j) = e.f_ij;
+            if (controlled) {
+                ff->error[static_cast<std::size_t>(j) * nn + static_cast<std::size_t>(i)] = e.e_ji;
+                ff->error[static_cast<std::size_t>(i) * nn + static_cast<std::size_t>(j)] = e.e_ij;
+            }
         };
         for (int i = r.begin(); i != r.end(); ++i) {
             if (pairs) {

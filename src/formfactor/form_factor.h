@@ -133,6 +133,13 @@ struct FormFactors {
     FormFactorStats stats;
 };
 
+// One pair's two entries, F(i, j) and F(j, i), and their estimates (zero when the method gives
+// none). A self pair (i == j) has only f_ij and e_ij.
+struct PairEntries {
+    double f_ij = 0.0, f_ji = 0.0;
+    double e_ij = 0.0, e_ji = 0.0;
+};
+
 // Called with the number of pairs just finished (from any thread): for progress displays.
 using PairProgress = std::function<void(long long pairs)>;
 
@@ -157,6 +164,9 @@ public:
     // is (incremental updates, formfactor/incremental.h).
     void compute_pairs(const std::vector<std::vector<int>>& pairs, FormFactors* ff,
                        FormFactorStats* stats) const;
+    // One pair, i and j in either order, exactly as compute() computes it, with no matrix:
+    // the leaf links of hierarchical form factors (formfactor/hierarchy.h). Thread-safe.
+    PairEntries pair(int i, int j, FormFactorStats* stats) const;
 
 private:
     void compute_rows(int begin, int end, const std::vector<std::vector<int>>* pairs, FormFactors* ff,
