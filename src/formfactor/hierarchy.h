@@ -1,0 +1,87 @@
+#pragma once
+// Hierarchical form factors (Hanrahan, Salzman & Aupperle 1991): instead of the N^2 patch pairs,
+// a set of links between nodes of a hierarchy over each surface's patch grid, each link one
+// constant coupling between two groups of patches. The scene's patches are the leaves, so the
+// radiosity is still one value per patch, directly comparable with the dense path.
+//
+// A node covers a rectangle of its surface's patch grid; its two children halve the longer
+// side. Refinement starts from every pair of surfaces (a surface with itself when it can see
+// itself) and, for a pair of nodes p, q, samples the point-to-point kernel
+//   K(x, y) = cos_x cos_y V(x, y) / (pi |x - y|^2)
+// at m x m Gauss points of each node, V the visibility through the scene's surfaces. The
+// link is kept when the spread of the samples bounds the coupling's variation finely enough:
+//   error = max(A_p, A_q) (K_max - K_min) <= tolerance,
+// which is independent of the emission and the reflectance (the cached links stay valid when
+// lights and colours change), counts partial visibility (K_min = 0 when a sample is hidden) and
+// the quadrature's own error. Otherwise the larger node is split. Two leaves take the dense
+// path's error-controlled pair (FormFactorRows::pair), closed forms included. A pair whose
+// samples are all zero is dropped only when a proof covers it (a planar node with the other's
+// bounding sphere behind its plane, or a surface that cannot see itself) or when the nodes are
+// far apart for their size; otherwise it is refined.
+//
+// No N x N array is built: memory is O(nodes + links).
+#include <cstdint>
+#include <vector>
+
+#include "formfactor/form_factor.h"
+#include "geometry/scene_geometry.h"
+
+namespace radiosa {
+
+struct HierarchyOptions {
+    double tolerance = 1e-5;  // on each link's coupling, as an absolute form factor
+    int samples = 3;          // Gauss points per parameter on each node (samples^4 kernel values)
+};
+
+struct HierarchyNode {
+    int surface = 0;
+    int is0 = 0, is1 = 0, it0 = 0, it1 = 0;  // the patch grid's [is0, is1) x [it0, it1)
+    int patch = -1;                          // a leaf's global patch index, else -1
+    int child[2] = {-1, -1};
+    double area = 0.0;
+    BoundingSphere bound;
+    bool leaf() const { return patch >= 0; }
+};
+
+// The receiver gathers f x (the source's area-averaged radiosity): f is the form factor from
+// the receiver node (averaged over its area) to the source node.
+struct Link {
+    int receiver = 0, source = 0;
+    double f = 0.0;
+    double error = 0.0;  // estimate of |f - exact|
+};
+
+struct HierarchyStats {
+    long long links = 0;
+    long long leaf_links = 0;  // between two patches, by the dense path's pair integral
+    long long node_pairs = 0;  // node pairs examined during refinement
+    long long kernel_samples = 0;
+    long long dropped = 0;  // node pairs proven (or estimated) to exchange nothing
+    double seconds = 0.0;
+};
+
+struct Hierarchy {
+    std::vector<HierarchyNode> nodes;      // surface roots first, in surface order
+    std::vector<int> leaf_of_patch;        // node index of each patch
+    std::vector<Link> links;               // sorted by (receiver, source)
+    std::vector<std::int64_t> first_link;  // links of node r: [first_link[r], first_link[r + 1])
+    std::vector<double> patch_area;
+    HierarchyOptions options;
+    HierarchyStats stats;
+    FormFactorStats leaf_stats;  // the leaf pairs' integration counts
+
+    int roots = 0;  // nodes[0, roots) are the surfaces' roots, nodes[k] surface k's
+    // sum_j F_ij for every patch: the links of the patch and of every node above it.
+    std::vector<double> row_sums() const;
+    // The leaves under a node, in patch order of the grid.
+    void leaves(int node, std::vector<int>* out) const;
+    // Bytes held by nodes and links.
+    std::size_t bytes() const;
+};
+
+// Builds the hierarchy and its links. `leaf` sets the leaf pairs' integration (its method and
+// tolerance); culling and visibility follow it. Deterministic for any thread count.
+Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
+                          const FormFactorOptions& leaf);
+
+}  // namespace radiosa

