@@ -1,13 +1,13 @@
 #include "formfactor/hierarchy.h"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <mutex>
 
 #include "formfactor/blocker_set.h"
 #include "util/gauss_legendre.h"

@@ -8,15 +8,18 @@
 // side. Refinement starts from every pair of surfaces (a surface with itself when it can see
 // itself) and, for a pair of nodes p, q, samples the point-to-point kernel
 //   K(x, y) = cos_x cos_y V(x, y) / (pi |x - y|^2)
-// at m x m Gauss points of each node, V the visibility through the scene's surfaces. The
-// link is kept when the spread of the samples bounds the coupling's variation finely enough:
-//   error = max(A_p, A_q) (K_max - K_min) <= tolerance,
-// which is independent of the emission and the reflectance (the cached links stay valid when
-// lights and colours change), counts partial visibility (K_min = 0 when a sample is hidden) and
-// the quadrature's own error. Otherwise the larger node is split. Two leaves take the dense
+// at m x m Gauss points of each node, V the visibility through the scene's surfaces, and from it
+// the point-to-node factors F(x -> q) at p's samples and F(y -> p) at q's. A link gives every
+// point of a node the same factor, so the link is kept when those factors vary over each node
+// by at most the tolerance:
+//   max(spread_x F(x -> q), spread_y F(y -> p)) <= tolerance,
+// a criterion independent of the emission and the reflectance (the links stay valid when
+// lights and colours change) that counts partial visibility (hidden samples lower some
+// F(x -> q)). It estimates, and does not bound, the error: a source whose radiosity varies
+// across it is taken at its average. Otherwise the larger node is split. Two leaves take the dense
 // path's error-controlled pair (FormFactorRows::pair), closed forms included. A pair whose
-// samples are all zero is dropped only when a proof covers it (a planar node with the other's
-// bounding sphere behind its plane, or a surface that cannot see itself) or when the nodes are
+// samples are all zero is dropped only when a proof covers it (a planar node with all of the
+// other behind or in its plane, or a surface that cannot see itself) or when the nodes are
 // far apart for their size; otherwise it is refined.
 //
 // No N x N array is built: memory is O(nodes + links).
