@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "formfactor/blocker_set.h"
+#include "formfactor/cubature.h"
 #include "util/gauss_legendre.h"
 #include "util/stopwatch.h"
 
@@ -90,21 +91,15 @@ public:
     Refiner(const SceneGeometry& g, const HierarchyOptions& o, const FormFactorOptions& leaf, Hierarchy* h)
         : m_g(g), m_o(o), m_leaf(leaf), m_rows(g, leaf), m_h(*h), m_m(o.samples) {
         const GaussRule rule = gauss_legendre(m_m);
-        m_samples.resize(h->nodes.size() * static_cast<std::size_t>(m_m * m_m));
+        m_samples.reserve(h->nodes.size() * static_cast<std::size_t>(m_m * m_m));
         for (std::size_t i = 0; i < h->nodes.size(); ++i) {
+            Patch rect_only;  // quadrature_points reads the parameter rectangle only
             const Rect r = rect(static_cast<int>(i));
-            const Surface& s = g.surface(h->nodes[i].surface);
-            const double hs = 0.5 * (r.s1 - r.s0), ht = 0.5 * (r.t1 - r.t0);
-            for (int b = 0; b < m_m; ++b)
-                for (int a = 0; a < m_m; ++a) {
-                    const double ps = r.s0 + hs * (rule.x[a] + 1.0), pt = r.t0 + ht * (rule.x[b] + 1.0);
-                    const Vec3 nw = s.normal(ps, pt);
-                    const double len = glm::length(nw);
-                    m_samples[i * static_cast<std::size_t>(m_m * m_m) +
-                              static_cast<std::size_t>(b * m_m + a)] = {
-                        s.point(ps, pt), len > 0.0 ? nw / len : Vec3(0.0),
-                        rule.w[a] * rule.w[b] * hs * ht * len};
-                }
+            rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
+            for (const QuadPoint& q : quadrature_points(g.surface(h->nodes[i].surface), rect_only, rule)) {
+                const double w = glm::length(q.nw);
+                m_samples.push_back({q.x, w > 0.0 ? q.nw / w : Vec3(0.0), w});
+            }
         }
         m_eps = 1e-9 * g.scale();
     }
@@ -298,31 +293,8 @@ private:
 
 std::vector<double> Hierarchy::row_sums() const {
     std::vector<double> node_sum(nodes.size(), 0.0);
-    for (std::size_t r = 0; r + 1 < first_link.size(); ++r)
-        for (auto l = first_link[r]; l < first_link[r + 1]; ++l)
-            node_sum[r] += links[static_cast<std::size_t>(l)].f;
-    // Down the tree: children after parents.
-    for (std::size_t i = 0; i < nodes.size(); ++i)
-        for (const int c : nodes[i].child)
-            if (c >= 0) node_sum[static_cast<std::size_t>(c)] += node_sum[i];
-    std::vector<double> out(leaf_of_patch.size());
-    for (std::size_t i = 0; i < out.size(); ++i)
-        out[i] = node_sum[static_cast<std::size_t>(leaf_of_patch[i])];
-    return out;
-}
-
-void Hierarchy::leaves(int node, std::vector<int>* out) const {
-    const HierarchyNode& n = nodes[static_cast<std::size_t>(node)];
-    if (n.leaf()) {
-        out->push_back(n.patch);
-        return;
-    }
-    for (const int c : n.child) leaves(c, out);
-}
-
-std::size_t Hierarchy::bytes() const {
-    return nodes.size() * sizeof(HierarchyNode) + links.size() * sizeof(Link) +
-           first_link.size() * sizeof(std::int64_t) + leaf_of_patch.size() * sizeof(int);
+    for (const Link& l : links) node_sum[static_cast<std::size_t>(l.receiver)] += l.f;
+    return to_patches(std::move(node_sum));
 }
 
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
@@ -331,7 +303,6 @@ Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions&
     Hierarchy h;
     h.options = options;
     build_nodes(geometry, &h);
-    for (const Patch& p : geometry.patches()) h.patch_area.push_back(p.area);
     Refiner refiner(geometry, options, leaf, &h);
     refiner.run();
     refiner.collect(&h);

@@ -68,18 +68,26 @@ struct Hierarchy {
     std::vector<int> leaf_of_patch;        // node index of each patch
     std::vector<Link> links;               // sorted by (receiver, source)
     std::vector<std::int64_t> first_link;  // links of node r: [first_link[r], first_link[r + 1])
-    std::vector<double> patch_area;
     HierarchyOptions options;
     HierarchyStats stats;
     FormFactorStats leaf_stats;  // the leaf pairs' integration counts
 
     int roots = 0;  // nodes[0, roots) are the surfaces' roots, nodes[k] surface k's
-    // sum_j F_ij for every patch: the links of the patch and of every node above it.
+    // Per-node values summed down every path from a root (children come after parents), read
+    // at the patches: what a patch receives through its own links and those of every node
+    // above it.
+    template <class T>
+    std::vector<T> to_patches(std::vector<T> per_node) const {
+        for (std::size_t i = 0; i < nodes.size(); ++i)
+            for (const int c : nodes[i].child)
+                if (c >= 0) per_node[static_cast<std::size_t>(c)] += per_node[i];
+        std::vector<T> out;
+        out.reserve(leaf_of_patch.size());
+        for (const int leaf : leaf_of_patch) out.push_back(per_node[static_cast<std::size_t>(leaf)]);
+        return out;
+    }
+    // sum_j F_ij for every patch.
     std::vector<double> row_sums() const;
-    // The leaves under a node, in patch order of the grid.
-    void leaves(int node, std::vector<int>* out) const;
-    // Bytes held by nodes and links.
-    std::size_t bytes() const;
 };
 
 // Builds the hierarchy and its links. `leaf` sets the leaf pairs' integration (its method and

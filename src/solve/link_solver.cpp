@@ -38,22 +38,10 @@ void gather_push(const Hierarchy& h, const std::vector<Rgb>& node_b, std::vector
         }
         (*node_h)[r] = sum;
     });
-    for (std::size_t i = 0; i < h.nodes.size(); ++i)
-        for (const int c : h.nodes[i].child)
-            if (c >= 0) (*node_h)[static_cast<std::size_t>(c)] += (*node_h)[i];
-    patch_h->resize(h.leaf_of_patch.size());
-    for (std::size_t p = 0; p < patch_h->size(); ++p)
-        (*patch_h)[p] = (*node_h)[static_cast<std::size_t>(h.leaf_of_patch[p])];
+    *patch_h = h.to_patches(*node_h);
 }
 
 }  // namespace
-
-std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B) {
-    std::vector<Rgb> node_b, node_h, patch_h;
-    pull(h, B, &node_b);
-    gather_push(h, node_b, &node_h, &patch_h);
-    return patch_h;
-}
 
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options, const std::vector<Rgb>* start) {

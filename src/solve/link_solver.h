@@ -29,8 +29,4 @@ struct LinkSolution {
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options = {}, const std::vector<Rgb>* start = nullptr);
 
-// H = sum over links of f B (per patch, pushed down): the irradiance the links deliver, for
-// energy balance checks.
-std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B);
-
 }  // namespace radiosa
