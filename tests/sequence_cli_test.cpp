@@ -188,9 +188,11 @@ TEST(SequenceCli, ScheduledFrameEqualsTheFrameRenderedAlone) {
     const int k = 5;  // mid-ramp, mid-orbit
     const Scene scene = load_scene(kScene);
     const Sequence seq = load_sequence(seq_path.string(), &scene);
-    const Image alone = test::frame_alone(
-        scene, seq, k,
-        resolve_form_factor_options(scene.form_factors, std::nullopt, std::nullopt, std::nullopt), 48, 40, 2);
+    const Image alone =
+        test::frame_alone(scene, seq, k,
+                          resolve_form_factor_options(scene.form_factors, std::nullopt, std::nullopt,
+                                                      std::nullopt, std::nullopt),
+                          48, 40, 2);
     EXPECT_EQ(alone.rgb, two[k].rgb);
     // And the EXR frame on disk holds the same floats.
     EXPECT_EQ(media::read_image(frame_path((d / "f%02d.exr").string(), k)).rgb, alone.rgb);

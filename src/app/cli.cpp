@@ -45,8 +45,14 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
                         "The paper's fixed Gauss-Legendre rule, P points per parameter (no error control)")
             ->check(CLI::Range(1, 64));
     cmd->add_option("--ff-tolerance", req->tolerance,
-                    "Error-controlled form factors: absolute tolerance on each F_ij (default 1e-6)")
+                    "Error-controlled form factors: absolute tolerance on each F_ij (default 1e-6); "
+                    "hierarchical: on each link (default 2e-5)")
         ->check(CLI::Range(1e-12, 0.1))
+        ->excludes(p);
+    cmd->add_option("--ff-method", req->method,
+                    "Form-factor method: adaptive (the default), gauss (the paper's rule, -p points) or "
+                    "hierarchical (links between groups of patches, no N x N matrix; docs/scale.md)")
+        ->check(CLI::IsMember({"adaptive", "gauss", "hierarchical"}))
         ->excludes(p);
     cmd->add_flag_callback(
         "--no-visibility", [visibility] { *visibility = false; },
@@ -100,6 +106,8 @@ void add_render_options(CLI::App* cmd, StillJob* job, SequenceOptions* so, bool*
            "Palette quantiser: median-cut (default) or popularity (the paper's)")
         ->check(CLI::IsMember({"median-cut", "popularity"}));
     cmd->add_option("--report", job->report_path, "Write the JSON run report here");
+    cmd->add_option("--radiosities", job->radiosities_path,
+                    "Still: write every patch's radiosity here (.csv: patch, area, B_r, B_g, B_b)");
     cmd->add_option("--width", job->render.width, "Image width in pixels")->check(CLI::Range(1, 16384));
     cmd->add_option("--height", job->render.height, "Image height in pixels")->check(CLI::Range(1, 16384));
     cmd->add_option("--samples", job->render.samples, "Sub-pixel rays per axis (S x S per pixel)")
@@ -258,6 +266,7 @@ int run_render(bool no_subcommand, Commands& c, const WarningSink& warn, std::os
         if (!job.report_path) job.report_path = kDemoReport;
     }
     if (!sequence.empty()) {
+        if (job.radiosities_path) throw Error("render: --radiosities applies to stills (--camera)");
         const SequenceJob sj = sequence_job(c, warn, err);
         const SequenceReport report = run_sequence_job(sj);
         if (!c.quiet) out << sequence_summary(sj, report);

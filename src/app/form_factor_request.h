@@ -11,17 +11,18 @@
 namespace radiosa {
 
 struct FormFactorRequest {
-    std::optional<double> tolerance;  // --ff-tolerance
-    std::optional<int> gauss_points;  // --gauss-points: the paper's fixed rule
-    std::optional<bool> visibility;   // --no-visibility
-    bool culling = true;              // --no-culling (a diagnostic; bypasses the cache)
-    CacheSettings cache;              // --cache-dir, --no-cache
-    bool strict = false;              // --strict: intersecting surfaces and missed tolerances are errors
+    std::optional<std::string> method;  // --ff-method
+    std::optional<double> tolerance;    // --ff-tolerance
+    std::optional<int> gauss_points;    // --gauss-points: the paper's fixed rule
+    std::optional<bool> visibility;     // --no-visibility
+    bool culling = true;                // --no-culling (a diagnostic; bypasses the cache)
+    CacheSettings cache;                // --cache-dir, --no-cache
+    bool strict = false;                // --strict: intersecting surfaces and missed tolerances are errors
     std::optional<double> solve_tolerance;  // --solve-tolerance: overrides the scene's solve: tolerance
 
     FormFactorOptions options_for(const Scene& scene) const {
         FormFactorOptions o =
-            resolve_form_factor_options(scene.form_factors, tolerance, gauss_points, visibility);
+            resolve_form_factor_options(scene.form_factors, method, tolerance, gauss_points, visibility);
         o.culling = culling;
         return o;
     }

@@ -11,6 +11,12 @@
 
 namespace radiosa {
 
+namespace {
+// --matrix with hierarchical links: the dense matrix they stand for, up to 8 x 8,192^2 bytes
+// (512 MB, with as much again for the estimates).
+constexpr int kMaxExpandedPatches = 8192;
+}  // namespace
+
 std::string run_formfactors(const FormFactorsJob& job) {
     const Stopwatch total;
     if (job.matrix_path) check_matrix_output(*job.matrix_path);
@@ -22,6 +28,15 @@ std::string run_formfactors(const FormFactorsJob& job) {
     }
     const ThreadLimit limit(job.threads);
     const Prepared p = prepare(job.scene_path, job.form_factors, job.warn, [&](const Prepared& q) {
+        if (job.matrix_path &&
+            job.form_factors.options_for(q.scene).method == FormFactorMethod::Hierarchical &&
+            q.geometry.patch_count() > kMaxExpandedPatches)
+            throw Error(
+                FileLoc{job.scene_path, 0, 0},
+                fmt::format("--matrix: the hierarchical links stand for a {0} x {0} matrix, more than "
+                            "the {1} x {1} this command expands; drop --matrix (the report and the "
+                            "summary need none) or use fewer patches",
+                            q.geometry.patch_count(), kMaxExpandedPatches));
         if (job.sensors_path && q.scene.sensors.empty())
             throw Error(FileLoc{job.scene_path, 0, 0},
                         "--sensors: the scene has no sensors (add {name, type: sensor, position: [x, y, z], "
@@ -29,7 +44,9 @@ std::string run_formfactors(const FormFactorsJob& job) {
     });
 
     const Stopwatch clock;
-    if (job.matrix_path) write_matrix(*job.matrix_path, p.geometry, p.ff);
+    if (job.matrix_path)
+        write_matrix(*job.matrix_path, p.geometry,
+                     p.hierarchy ? expand_links(*p.hierarchy, p.geometry) : p.ff);
     if (job.sensors_path) {
         // The matrix CSV's column labels; one row per sensor.
         std::string csv = "sensor";

@@ -61,6 +61,23 @@ void meet_solve_target(Prepared* p, double target, const FormFactorRequest& requ
     warn(w);
 }
 
+// The hierarchical method: links instead of the matrix (not cached yet).
+void build_links(Prepared* p, const FormFactorRequest& request) {
+    if (request.solve_tolerance || p->scene.solve.tolerance)
+        throw Error(p->scene.solve.tolerance ? p->scene.solve_loc : FileLoc{p->scene.file, 0, 0},
+                    "a solve tolerance needs the dense form factors (their estimates bound the error); "
+                    "drop form_factors: method: hierarchical (or --ff-method hierarchical)");
+    HierarchyOptions ho;
+    ho.tolerance = p->options.link_tolerance;
+    p->hierarchy = build_hierarchy(p->geometry, ho, p->options);
+    p->ff.options = p->options;
+    p->ff.stats = p->hierarchy->leaf_stats;
+    p->ff.stats.seconds = p->hierarchy->stats.seconds;
+    for (int i = 0; i < p->geometry.patch_count(); ++i) p->ff.area.push_back(p->geometry.patch(i).area);
+    p->cache.status = CacheStatus::Off;
+    p->cache.reason = "hierarchical links are not cached in this version";
+}
+
 }  // namespace
 
 Prepared prepare(const std::string& scene_path, const FormFactorRequest& request, const WarningSink& warn,
@@ -83,16 +100,22 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
 
     p.options = request.options_for(p.scene);
     clock = Stopwatch();
-    p.ff = obtain_form_factors(p.scene, p.geometry, p.options, request.cache, warn, &p.cache);
-    if (const auto target = request.solve_tolerance ? request.solve_tolerance : p.scene.solve.tolerance)
-        meet_solve_target(&p, *target, request, warn);
+    if (p.options.method == FormFactorMethod::Hierarchical) {
+        build_links(&p, request);
+    } else {
+        p.ff = obtain_form_factors(p.scene, p.geometry, p.options, request.cache, warn, &p.cache);
+        if (const auto target = request.solve_tolerance ? request.solve_tolerance : p.scene.solve.tolerance)
+            meet_solve_target(&p, *target, request, warn);
+    }
     p.form_factors_s = clock.seconds();
-    p.checks = check_form_factors(p.ff);
+    p.checks = p.hierarchy ? check_hierarchy(*p.hierarchy, p.options.tolerance) : check_form_factors(p.ff);
     if (p.checks.closure_worst_patch >= 0)
         p.closure_worst_patch = p.geometry.patch_label(p.checks.closure_worst_patch);
     if (p.checks.entries_over_tolerance > 0) {
-        p.worst_miss = p.geometry.patch_label(p.checks.worst_miss_i) + " -> " +
-                       p.geometry.patch_label(p.checks.worst_miss_j);
+        p.worst_miss = p.checks.worst_miss_i < 0 || p.checks.worst_miss_j < 0
+                           ? std::string("a link between groups of patches")
+                           : p.geometry.patch_label(p.checks.worst_miss_i) + " -> " +
+                                 p.geometry.patch_label(p.checks.worst_miss_j);
         const std::string w = fmt::format(
             "{} form-factor entr{} miss the tolerance {:.0e} ({} integral(s) stopped at their refinement "
             "cap); "
@@ -160,7 +183,8 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     j["reciprocity_max_error"] = p.checks.reciprocity_max_error;
     j["min_entry"] = p.checks.min_entry;
     add_form_factor_checks(j, p.checks);
-    j["entries_over_tolerance"] = p.ff.error.empty() ? json(nullptr) : json(p.checks.entries_over_tolerance);
+    const bool estimates = !p.ff.error.empty() || p.hierarchy;
+    j["entries_over_tolerance"] = estimates ? json(p.checks.entries_over_tolerance) : json(nullptr);
     j["worst_entry_over_tolerance"] = p.worst_miss.empty()
                                           ? json(nullptr)
                                           : json{{"pair", p.worst_miss},
@@ -173,6 +197,7 @@ void add_prepared_json(nlohmann::json& j, const Prepared& p) {
     j["form_factor_stats"] = form_factor_stats_json(p.ff.stats);
     j["form_factor_seconds_by_type"] = seconds_by_type_json(p);
     j["peak_memory_mb"] = peak_memory_mb();
+    j["hierarchy"] = p.hierarchy ? hierarchy_json(*p.hierarchy) : json(nullptr);
     j["form_factor_cache"] = cache_outcome_json(p.cache);
     j["solve_target"] = p.solve_target ? json{{"tolerance", p.solve_target->tolerance},
                                               {"bound", p.solve_target->bound},
@@ -207,9 +232,15 @@ std::string prepared_summary(const Prepared& p) {
         s += fmt::format(
             "  solve target {:.0e}: {} after {} form-factor run(s), bound {:.2e} at tolerance {:.1e}\n",
             t->tolerance, t->reached ? "met" : "NOT met", t->rounds, t->bound, p.options.tolerance);
-    if (!p.ff.error.empty())
-        s += fmt::format("  error estimates: max per entry {:.2e}, max per row {:.2e}\n",
-                         p.checks.max_error_estimate, p.checks.max_row_error_estimate);
+    if (!p.ff.error.empty() || p.hierarchy)
+        s += fmt::format("  error estimates: max per {} {:.2e}, max per row {:.2e}\n",
+                         p.hierarchy ? "link" : "entry", p.checks.max_error_estimate,
+                         p.checks.max_row_error_estimate);
+    if (const auto& h = p.hierarchy)
+        s += fmt::format(
+            "  hierarchy     {} nodes, {} links ({} between two patches, {} above them), {:.0f} MB\n",
+            h->nodes.size(), h->stats.links, h->stats.leaf_links, h->stats.links - h->stats.leaf_links,
+            static_cast<double>(hierarchy_bytes(*h)) / 1e6);
     return s;
 }
 

@@ -11,6 +11,7 @@
 #include "app/form_factor_request.h"
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
+#include "formfactor/hierarchy.h"
 #include "formfactor/sensor.h"
 #include "geometry/intersections.h"
 #include "geometry/scene_geometry.h"
@@ -25,7 +26,10 @@ struct Prepared {
     Scene scene;
     SceneGeometry geometry;
     FormFactorOptions options;  // as resolved from the command line and the scene file
+    // The dense path: the matrix. The hierarchical method: the links in `hierarchy`, and ff
+    // holds only the patch areas, the options and the pairs-of-patches statistics.
     FormFactors ff;
+    std::optional<Hierarchy> hierarchy;
     CacheOutcome cache;
     FormFactorChecks checks;
     std::string closure_worst_patch;  // "surface[is,it]", "" when none

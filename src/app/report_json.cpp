@@ -51,11 +51,23 @@ nlohmann::json solve_json(SolverMethod method, const StabilitySummary& stability
 
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
     using nlohmann::json;
-    const bool adaptive = o.method == FormFactorMethod::Adaptive;
+    const bool fixed = o.method == FormFactorMethod::Fixed;
     j["form_factor_method"] = method_name(o.method);
-    j["form_factor_tolerance"] = adaptive ? json(o.tolerance) : json(nullptr);
-    j["gauss_points"] = adaptive ? json(nullptr) : json(o.gauss_points);
+    j["form_factor_tolerance"] = fixed ? json(nullptr) : json(o.tolerance);
+    j["gauss_points"] = fixed ? json(o.gauss_points) : json(nullptr);
+    j["link_tolerance"] = o.method == FormFactorMethod::Hierarchical ? json(o.link_tolerance) : json(nullptr);
     j["visibility"] = o.visibility;
+}
+
+nlohmann::json hierarchy_json(const Hierarchy& h) {
+    return {{"nodes", h.nodes.size()},
+            {"links", h.stats.links},
+            {"leaf_links", h.stats.leaf_links},
+            {"node_pairs", h.stats.node_pairs},
+            {"kernel_samples", h.stats.kernel_samples},
+            {"dropped", h.stats.dropped},
+            {"bytes", hierarchy_bytes(h)},
+            {"seconds", h.stats.seconds}};
 }
 
 void add_form_factor_checks(nlohmann::json& j, const FormFactorChecks& c) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cache/cache_file.h"
+#include "formfactor/hierarchy.h"
 #include "solve/solver.h"
 
 namespace radiosa {
@@ -25,9 +26,11 @@ struct SharedSolves {
 // "left_out": what the run proved it did not need to do, counted (docs/cli.md, "Run report").
 nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s,
                              const SharedSolves& solves);
-// Adds form_factor_method ("adaptive" | "gauss"), form_factor_tolerance and gauss_points (the
-// one that does not apply is null) and visibility.
+// Adds form_factor_method ("adaptive" | "gauss" | "hierarchical"), form_factor_tolerance,
+// gauss_points and link_tolerance (those that do not apply are null) and visibility.
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);
+// "hierarchy": {nodes, links, leaf_links, node_pairs, kernel_samples, dropped, bytes, seconds}.
+nlohmann::json hierarchy_json(const Hierarchy& h);
 // "solve": {method, spectral_radius, condition_estimate (null when none), residual}.
 nlohmann::json solve_json(SolverMethod method, const StabilitySummary& stability, double residual);
 // Adds max_error_estimate, max_row_error_estimate, reciprocity_abs_error, reciprocity_vs_estimate.

@@ -450,6 +450,10 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     std::optional<Sequence> seq;
     r.prep =
         std::make_unique<Prepared>(prepare(r.scene_path, job.form_factors, job.warn, [&](const Prepared& p) {
+            if (job.form_factors.options_for(p.scene).method == FormFactorMethod::Hierarchical)
+                throw Error(FileLoc{r.scene_path, 0, 0},
+                            "hierarchical form factors render stills in this version, not sequences; "
+                            "run the sequence with --ff-method adaptive");
             seq = read_sequence(job, p.scene, &r.render);
         }));
     const Prepared& p = *r.prep;

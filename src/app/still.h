@@ -17,6 +17,7 @@ struct StillJob {
     std::string camera_path;
     std::vector<std::string> outputs;  // image files; format from each extension
     std::optional<std::string> report_path;
+    std::optional<std::string> radiosities_path;  // per-patch radiosity, .csv
     RenderOptions render;
     FormFactorRequest form_factors;
     SolverMethod solver = SolverMethod::LU;
@@ -42,6 +43,8 @@ struct StillReport {
     SolveDiagnostics solve;
     // max |B - B*| / max B per channel (solver.h); empty when the form factors carry no estimates
     std::optional<Rgb> radiosity_error_bound;
+    // Hierarchical links: an estimate of the same, not a bound (solve/link_solver.h)
+    std::optional<Rgb> radiosity_error_estimate;
     // Per scene sensor: irradiance sum_j F(dA -> j) B_j per channel, and sum_j err_j B_j.
     struct SensorReading {
         std::string name;

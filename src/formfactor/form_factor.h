@@ -4,6 +4,7 @@
 //          (n_i . e_ij)(n_j . e_ji) / L^4  ds dt dtheta dphi,
 // n the unnormalised normals dP/ds x dP/dt, e the vector joining the points, L its length,
 // evaluated by a tensor Gauss-Legendre rule with p points per parameter (p^4 terms).
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -17,18 +18,22 @@ namespace radiosa {
 
 class SceneGeometry;
 
-// How form factors are integrated. Reported as form_factor_method: "adaptive" | "gauss".
+// How form factors are integrated. Reported as form_factor_method: "adaptive" | "gauss" |
+// "hierarchical".
 enum class FormFactorMethod {
     Fixed,     // the paper's tensor Gauss-Legendre rule, gauss_points per parameter, no estimate
     Adaptive,  // error-controlled to `tolerance` per entry, with a stored estimate (the default)
-    // (a hierarchical method goes here: its own options below, its own branch in
-    // compute_form_factors, its name in method_name)
+    // Links between groups of patches (formfactor/hierarchy.h) within link_tolerance; no N x N
+    // matrix. Pairs of single patches are integrated as Adaptive at `tolerance`.
+    Hierarchical,
 };
-// "gauss" | "adaptive": the report's and the scene file's names.
+// "gauss" | "adaptive" | "hierarchical": the report's and the scene file's names.
 const char* method_name(FormFactorMethod m);
 
 // The default absolute tolerance on each F_ij (docs/accuracy.md).
 inline constexpr double kDefaultFormFactorTolerance = 1e-6;
+// The hierarchical method's default tolerance on each link (docs/scale.md).
+inline constexpr double kDefaultLinkTolerance = 2e-5;
 
 struct FormFactorOptions {
     FormFactorMethod method = FormFactorMethod::Adaptive;
@@ -53,18 +58,30 @@ struct FormFactorOptions {
         o.visibility = visibility;
         return o;
     }
+    // Hierarchical: the tolerance on each link's coupling (hierarchy.h).
+    double link_tolerance = kDefaultLinkTolerance;
+
     static FormFactorOptions adaptive(double tol, bool visibility = true) {
         FormFactorOptions o;
         o.tolerance = tol;
         o.visibility = visibility;
         return o;
     }
+    // Pairs of patches within a tenth of the link tolerance (never looser than 1e-5).
+    static FormFactorOptions hierarchical(double link_tol, bool visibility = true) {
+        FormFactorOptions o = adaptive(std::min(1e-5, 0.1 * link_tol), visibility);
+        o.method = FormFactorMethod::Hierarchical;
+        o.link_tolerance = link_tol;
+        return o;
+    }
 };
 
 struct FormFactorSettings;
-// The options a run uses: the command line's --gauss-points (fixed rule) or --ff-tolerance,
-// else the scene's form_factors block, else error control at kDefaultFormFactorTolerance.
+// The options a run uses: the command line's --ff-method, --gauss-points (fixed rule) or
+// --ff-tolerance, else the scene's form_factors block, else error control at
+// kDefaultFormFactorTolerance.
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
+                                              std::optional<std::string> method,
                                               std::optional<double> tolerance,
                                               std::optional<int> gauss_points,
                                               std::optional<bool> visibility);

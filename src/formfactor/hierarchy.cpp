@@ -15,7 +15,6 @@
 #include "util/stopwatch.h"
 
 namespace radiosa {
-
 namespace {
 
 // The smallest sphere found by growing a onto b (not the minimal one, but never smaller than
@@ -27,6 +26,36 @@ BoundingSphere enclose(const BoundingSphere& a, const BoundingSphere& b) {
     if (dist + a.radius <= b.radius) return b;
     const double r = 0.5 * (dist + a.radius + b.radius);
     return {a.center + d * ((r - a.radius) / dist), r};
+}
+
+// A ball holding the part [s0, s1] x [t0, t1] of a spherical surface, tighter than its own
+// bound() (the whole sphere): the cap about the direction u0 of the middle azimuth and polar
+// angle that holds the part. cos(angle to u0) >= cos(theta) cos(theta_m) + sin(theta) sin(theta_m)
+// cos(span / 2), a sinusoid in theta whose least value on [theta0, theta1] is at an end or at its
+// trough; a cap of angle alpha <= pi / 2 lies in the ball of radius R sin(alpha) about c + R
+// cos(alpha) u0. Otherwise `fallback`.
+BoundingSphere cap_bound(const Surface& surface, double s0, double s1, double t0, double t1,
+                         const BoundingSphere& fallback) {
+    const auto ball = surface.sphere();
+    if (!ball) return fallback;
+    const auto [pa, ta] = surface.sphere_angles(s0, t0);
+    const auto [pb, tb] = surface.sphere_angles(s1, t1);
+    const double th0 = std::min(ta, tb), th1 = std::max(ta, tb);
+    const double half = 0.5 * std::abs(pb - pa), pm = 0.5 * (pa + pb), tm = 0.5 * (th0 + th1);
+    if (half > kPi) return fallback;
+    const double A = std::cos(tm), B = std::sin(tm) * std::cos(half);
+    const auto f = [&](double th) { return A * std::cos(th) + B * std::sin(th); };
+    double cos_alpha = std::min(f(th0), f(th1));
+    const double trough = std::atan2(B, A) + kPi;  // f's least value, -sqrt(A^2 + B^2)
+    for (const double th : {trough, trough - 2.0 * kPi})
+        if (th > th0 && th < th1) cos_alpha = std::min(cos_alpha, f(th));
+    if (!(cos_alpha > 0.0)) return fallback;
+    const Vec3 u0 =
+        surface.sphere_axes() * Vec3(std::sin(tm) * std::cos(pm), std::sin(tm) * std::sin(pm), std::cos(tm));
+    const double r = ball->radius * std::sqrt(std::max(0.0, 1.0 - cos_alpha * cos_alpha));
+    const BoundingSphere cap{ball->center + ball->radius * cos_alpha * u0,
+                             r * (1.0 + 1e-12) + 1e-15 * ball->radius};
+    return cap.radius < fallback.radius ? cap : fallback;
 }
 
 struct Sample {
@@ -71,14 +100,17 @@ void build_nodes(const SceneGeometry& g, Hierarchy* h) {
     for (std::size_t i = h->nodes.size(); i-- > 0;) {
         HierarchyNode& n = h->nodes[i];
         if (n.leaf()) {
-            n.area = g.patch(n.patch).area;
-            n.bound = g.patch(n.patch).bound;
+            const Patch& pt = g.patch(n.patch);
+            n.area = pt.area;
+            n.bound = cap_bound(g.surface(n.surface), pt.s0, pt.s1, pt.t0, pt.t1, pt.bound);
             continue;
         }
         const HierarchyNode& a = h->nodes[static_cast<std::size_t>(n.child[0])];
         const HierarchyNode& b = h->nodes[static_cast<std::size_t>(n.child[1])];
         n.area = a.area + b.area;
-        n.bound = enclose(a.bound, b.bound);
+        const Patch& lo = g.patch(g.patch_index(n.surface, n.is0, n.it0));
+        const Patch& hi = g.patch(g.patch_index(n.surface, n.is1 - 1, n.it1 - 1));
+        n.bound = cap_bound(g.surface(n.surface), lo.s0, hi.s1, lo.t0, hi.t1, enclose(a.bound, b.bound));
     }
 }
 
@@ -90,17 +122,8 @@ class Refiner {
 public:
     Refiner(const SceneGeometry& g, const HierarchyOptions& o, const FormFactorOptions& leaf, Hierarchy* h)
         : m_g(g), m_o(o), m_leaf(leaf), m_rows(g, leaf), m_h(*h), m_m(o.samples) {
-        const GaussRule rule = gauss_legendre(m_m);
-        m_samples.reserve(h->nodes.size() * static_cast<std::size_t>(m_m * m_m));
-        for (std::size_t i = 0; i < h->nodes.size(); ++i) {
-            Patch rect_only;  // quadrature_points reads the parameter rectangle only
-            const Rect r = rect(static_cast<int>(i));
-            rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
-            for (const QuadPoint& q : quadrature_points(g.surface(h->nodes[i].surface), rect_only, rule)) {
-                const double w = glm::length(q.nw);
-                m_samples.push_back({q.x, w > 0.0 ? q.nw / w : Vec3(0.0), w});
-            }
-        }
+        m_samples = node_samples(m_m);
+        m_coarse = node_samples(m_m - 1);
         m_eps = 1e-9 * g.scale();
     }
 
@@ -137,9 +160,45 @@ private:
     }
     const HierarchyNode& node(int i) const { return m_h.nodes[static_cast<std::size_t>(i)]; }
 
-    void add(int r, int s, double f, double e) {
-        if (f == 0.0 && e == 0.0) return;
+    // m x m Gauss points of every node, node after node.
+    std::vector<Sample> node_samples(int m) const {
+        const GaussRule rule = gauss_legendre(m);
+        std::vector<Sample> out;
+        out.reserve(m_h.nodes.size() * static_cast<std::size_t>(m * m));
+        for (std::size_t i = 0; i < m_h.nodes.size(); ++i) {
+            Patch rect_only;  // quadrature_points reads the parameter rectangle only
+            const Rect r = rect(static_cast<int>(i));
+            rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
+            for (const QuadPoint& q : quadrature_points(m_g.surface(m_h.nodes[i].surface), rect_only, rule)) {
+                const double w = glm::length(q.nw);
+                out.push_back({q.x, w > 0.0 ? q.nw / w : Vec3(0.0), w});
+            }
+        }
+        return out;
+    }
+
+    // The coupling from the (m - 1) x (m - 1) points of each node.
+    double coarse_coupling(int p, int q, const BlockerSet& guard, long long* tests) const {
+        const std::size_t mm = static_cast<std::size_t>((m_m - 1) * (m_m - 1));
+        const Sample* xs = &m_coarse[static_cast<std::size_t>(p) * mm];
+        const Sample* ys = &m_coarse[static_cast<std::size_t>(q) * mm];
+        double g = 0.0;
+        for (std::size_t a = 0; a < mm; ++a)
+            for (std::size_t b = 0; b < mm; ++b) {
+                const Vec3 e = ys[b].x - xs[a].x;
+                const double l2 = glm::dot(e, e);
+                const double cx = glm::dot(xs[a].n, e), cy = -glm::dot(ys[b].n, e);
+                if (!(cx > 0.0 && cy > 0.0 && l2 > 0.0) || guard.blocked(xs[a].x, e, 1e-9, 1.0 - 1e-9, tests))
+                    continue;
+                g += xs[a].w * ys[b].w * cx * cy / (kPi * l2 * l2);
+            }
+        return g;
+    }
+
+    bool add(int r, int s, double f, double e) {
+        if (f == 0.0 && e == 0.0) return false;
         m_links.local().push_back({r, s, f, e});
+        return true;
     }
 
     // Proven to exchange nothing: one of the two lies behind (or in) the other's plane, the
@@ -150,13 +209,41 @@ private:
         if (a.surface == b.surface && !m_g.surface(a.surface).sees_itself()) return true;
         if (m_g.twin(a.surface) == b.surface && m_g.surface(a.surface).chords_never_cross()) return true;
         for (const auto& [x, y] : {std::pair{p, q}, std::pair{q, p}}) {
-            const auto pl = m_g.surface(node(x).surface).plane();
-            if (!pl) continue;
+            const Surface& sx = m_g.surface(node(x).surface);
+            const Surface& sy = m_g.surface(node(y).surface);
             const Rect r = rect(y);
-            const auto range = m_g.surface(node(y).surface).linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1);
-            if (range.second - pl->offset <= m_eps) return true;
+            if (const auto pl = sx.plane()) {
+                const auto range = sy.linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1);
+                if (range.second - pl->offset <= m_eps) return true;
+            } else if (const auto ball = sx.sphere(); ball && !sx.sees_itself() && behind_ball(x, *ball, y)) {
+                return true;
+            }
         }
         return false;
+    }
+
+    // Node y lies behind the tangent plane of every point of node x, a piece of the outward
+    // sphere `ball` (centre c, radius R): (P_y - c) . (P_x - c) <= R^2 for all points. The
+    // directions u = (P_x - c) / R lie in a cone about u0, the direction of x's bounding sphere
+    // (centre b, radius r), with cos(alpha) = (R^2 + |b - c|^2 - r^2) / (2 R |b - c|); those of
+    // P_y - c within gamma of the direction of y's bounding sphere; so (P_y - c) . (P_x - c) <=
+    // R max |P_y - c| cos(max(0, beta - alpha - gamma)), beta the angle between the two axes.
+    bool behind_ball(int x, const BoundingSphere& ball, int y) const {
+        const BoundingSphere& bx = node(x).bound;
+        const BoundingSphere& by = node(y).bound;
+        const Vec3 dx = bx.center - ball.center, dy = by.center - ball.center;
+        const double lx = glm::length(dx), ly = glm::length(dy), R = ball.radius;
+        if (!(lx > 1e-9 * R) || !(ly > by.radius)) return false;
+        const double cos_alpha = (R * R + lx * lx - bx.radius * bx.radius) / (2.0 * R * lx);
+        if (!(cos_alpha > -1.0)) return false;
+        const double alpha = std::acos(std::min(1.0, cos_alpha)), gamma = std::asin(by.radius / ly);
+        const double beta = std::acos(std::clamp(glm::dot(dx, dy) / (lx * ly), -1.0, 1.0));
+        const double gap = std::max(0.0, beta - alpha - gamma);
+        if (gap >= 0.5 * kPi) return true;
+        const Rect r = rect(y);
+        const double far =
+            m_g.surface(node(y).surface).max_distance_from_point(ball.center, r.s0, r.s1, r.t0, r.t1);
+        return far * std::cos(gap) <= R - m_eps;
     }
 
     // Surfaces whose bounding spheres come near the segments between the two nodes.
@@ -183,24 +270,38 @@ private:
     struct Coupling {
         double g = 0.0;
         double spread_p = 0.0, spread_q = 0.0;
-        bool any = false;  // some sample pair sees each other
+        double quadrature = 0.0;  // |g - g'|, g' from (m - 1) x (m - 1) points: g's own error
+        bool any = false;         // some sample pair sees each other
+        // The largest point-to-node factor F(x -> q) over p's samples, and F(y -> p) over q's,
+        // without occlusion: what a pair whose samples are all hidden could still exchange.
+        double open_p = 0.0, open_q = 0.0;
+        // Some sample pairs face each other and some do not: a horizon crosses the pair and
+        // the kernel's clipped cosines are not smooth there, so samples say little.
+        bool horizon = false;
     };
     Coupling sample(int p, int q) const {
         const std::size_t mm = static_cast<std::size_t>(m_m * m_m);
         const BlockerSet guard(m_g, m_leaf.visibility ? blockers(p, q) : std::vector<int>{});
         const Sample* xs = &m_samples[static_cast<std::size_t>(p) * mm];
         const Sample* ys = &m_samples[static_cast<std::size_t>(q) * mm];
-        std::vector<double> to_q(mm, 0.0), to_p(mm, 0.0);  // sum_b w_b K(x_a, y_b), sum_a w_a K
+        std::vector<double> to_q(mm, 0.0), to_p(mm, 0.0);      // sum_b w_b K(x_a, y_b), sum_a w_a K
+        std::vector<double> open_q(mm, 0.0), open_p(mm, 0.0);  // the same without occlusion
         Coupling c;
         long long tests = 0;
+        std::size_t away = 0;
         for (std::size_t a = 0; a < mm; ++a)
             for (std::size_t b = 0; b < mm; ++b) {
                 const Vec3 e = ys[b].x - xs[a].x;
                 const double l2 = glm::dot(e, e);
                 const double cx = glm::dot(xs[a].n, e), cy = -glm::dot(ys[b].n, e);
-                if (!(cx > 0.0 && cy > 0.0 && l2 > 0.0)) continue;
-                if (guard.blocked(xs[a].x, e, 1e-9, 1.0 - 1e-9, &tests)) continue;
+                if (!(cx > 0.0 && cy > 0.0 && l2 > 0.0)) {
+                    ++away;
+                    continue;
+                }
                 const double k = cx * cy / (kPi * l2 * l2);
+                open_q[a] += ys[b].w * k;
+                open_p[b] += xs[a].w * k;
+                if (guard.blocked(xs[a].x, e, 1e-9, 1.0 - 1e-9, &tests)) continue;
                 to_q[a] += ys[b].w * k;
                 to_p[b] += xs[a].w * k;
                 c.g += xs[a].w * ys[b].w * k;
@@ -210,8 +311,12 @@ private:
             const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
             return *hi - *lo;
         };
+        c.horizon = away > 0 && away < mm * mm;
         c.spread_p = spread(to_q);
         c.spread_q = spread(to_p);
+        c.open_p = *std::max_element(open_q.begin(), open_q.end());
+        c.open_q = *std::max_element(open_p.begin(), open_p.end());
+        if (c.any) c.quadrature = std::abs(c.g - coarse_coupling(p, q, guard, &tests));
         m_kernel_samples += static_cast<long long>(mm * mm);
         return c;
     }
@@ -219,9 +324,7 @@ private:
     void leaf_pair(int p, int q) {
         FormFactorStats& st = m_leaf_stats.local();
         const PairEntries e = m_rows.pair(node(p).patch, node(q).patch, &st);
-        ++m_leaf_links;
-        add(p, q, e.f_ij, e.e_ij);
-        if (p != q) add(q, p, e.f_ji, e.e_ji);
+        m_leaf_links += add(p, q, e.f_ij, e.e_ij) + (p != q && add(q, p, e.f_ji, e.e_ji));
     }
 
     // Two pair refinements, in parallel while the nodes are large (the split points do not
@@ -254,13 +357,23 @@ private:
             return;
         }
         const Coupling c = sample(p, q);
-        if (c.any && std::max(c.spread_p, c.spread_q) <= m_o.tolerance) {
-            add(p, q, c.g / a.area, c.spread_p);
-            add(q, p, c.g / b.area, c.spread_q);
+        // The error of p's gather over the link, per unit of radiosity: the receiver's spread
+        // (none when p is one patch) and the source's, F(y -> p) per unit area of p over q.
+        const double sp = a.leaf() ? 0.0 : c.spread_p, sq = b.leaf() ? 0.0 : c.spread_q;
+        const double e_pq = sp + (sq * b.area + c.quadrature) / a.area;
+        const double e_qp = sq + (sp * a.area + c.quadrature) / b.area;
+        if (c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance) {
+            add(p, q, c.g / a.area, e_pq);
+            add(q, p, c.g / b.area, e_qp);
             return;
         }
-        if (!c.any && far_apart(a.bound, b.bound)) {
+        // Every sample pair hidden: a zero coupling whose estimate is what the open view
+        // could carry. (A pair whose samples all face away is split until a proof or the
+        // patches' own integral settles it.)
+        if (!c.any && !c.horizon && c.open_p > 0.0 && std::max(c.open_p, c.open_q) <= m_o.tolerance) {
             ++m_dropped;
+            add(p, q, 0.0, c.open_p);
+            add(q, p, 0.0, c.open_q);
             return;
         }
         // Split the larger node (a leaf is never split).
@@ -270,12 +383,8 @@ private:
         both(
             patches(a) + patches(b), [&] { refine(c0, other); }, [&] { refine(c1, other); });
     }
-    static bool far_apart(const BoundingSphere& a, const BoundingSphere& b) {
-        return a.radius + b.radius < kFarApart * glm::length(a.center - b.center);
-    }
 
     static constexpr int kParallelPatches = 256;
-    static constexpr double kFarApart = 0.25;
     const SceneGeometry& m_g;
     HierarchyOptions m_o;
     FormFactorOptions m_leaf;
@@ -283,7 +392,7 @@ private:
     Hierarchy& m_h;
     int m_m;
     double m_eps = 0.0;
-    std::vector<Sample> m_samples;
+    std::vector<Sample> m_samples, m_coarse;
     tbb::enumerable_thread_specific<std::vector<Link>> m_links;
     tbb::enumerable_thread_specific<FormFactorStats> m_leaf_stats;
     mutable std::atomic<long long> m_node_pairs{0}, m_kernel_samples{0}, m_dropped{0}, m_leaf_links{0};
@@ -297,13 +406,92 @@ std::vector<double> Hierarchy::row_sums() const {
     return to_patches(std::move(node_sum));
 }
 
+FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g) {
+    const int n = g.patch_count();
+    FormFactors ff;
+    ff.F = DenseMatrix(n);
+    ff.error.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+    for (int i = 0; i < n; ++i) ff.area.push_back(g.patch(i).area);
+    const auto patches = [&](const HierarchyNode& a) {
+        std::vector<int> out;
+        for (int it = a.it0; it < a.it1; ++it)
+            for (int is = a.is0; is < a.is1; ++is) out.push_back(g.patch_index(a.surface, is, it));
+        return out;
+    };
+    for (const Link& l : h.links) {
+        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
+        const std::vector<int> js = patches(q);
+        for (const int i : patches(h.nodes[static_cast<std::size_t>(l.receiver)]))
+            for (const int j : js) {
+                const std::size_t at =
+                    static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j);
+                ff.F.data[at] += l.f * ff.area[static_cast<std::size_t>(j)] / q.area;
+                ff.error[at] += l.error * ff.area[static_cast<std::size_t>(j)] / q.area;
+            }
+    }
+    ff.stats = h.leaf_stats;
+    return ff;
+}
+
+std::size_t hierarchy_bytes(const Hierarchy& h) {
+    return h.nodes.capacity() * sizeof(HierarchyNode) + h.links.capacity() * sizeof(Link) +
+           h.first_link.capacity() * sizeof(std::int64_t) + h.leaf_of_patch.capacity() * sizeof(int);
+}
+
+FormFactorChecks check_hierarchy(const Hierarchy& h, double leaf_tolerance) {
+    FormFactorChecks c;
+    const std::vector<double> rows = h.row_sums();
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        if (const double e = std::abs(rows[i] - 1.0); c.closure_worst_patch < 0 || e > c.closure_max_error) {
+            c.closure_max_error = e;
+            c.closure_worst_patch = static_cast<int>(i);
+        }
+    std::vector<double> node_err(h.nodes.size(), 0.0);
+    for (const Link& l : h.links) {
+        const HierarchyNode& p = h.nodes[static_cast<std::size_t>(l.receiver)];
+        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
+        node_err[static_cast<std::size_t>(l.receiver)] += l.error;
+        c.min_entry = std::min(c.min_entry, l.f);
+        c.max_error_estimate = std::max(c.max_error_estimate, l.error);
+        const double target =
+            p.leaf() && q.leaf() ? leaf_tolerance * std::min(p.area, q.area) / p.area : h.options.tolerance;
+        if (l.error > target) {
+            ++c.entries_over_tolerance;
+            if (l.error / target > c.worst_miss_ratio) {
+                c.worst_miss_ratio = l.error / target;
+                c.worst_miss_estimate = l.error;
+                c.worst_miss_i = p.leaf() ? p.patch : -1;
+                c.worst_miss_j = q.leaf() ? q.patch : -1;
+            }
+        }
+        // The reverse link, if any (a pair proven or sampled to exchange nothing has neither).
+        const auto b = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source)];
+        const auto e = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source) + 1];
+        const auto r = std::lower_bound(b, e, l.receiver, [](const Link& k, int v) { return k.source < v; });
+        const double g = p.area * l.f, g_rev = r != e && r->source == l.receiver ? q.area * r->f : 0.0;
+        if (const double top = std::max(g, g_rev); top > 0.0) {
+            c.reciprocity_max_error = std::max(c.reciprocity_max_error, std::abs(g - g_rev) / top);
+            c.reciprocity_abs_error = std::max(c.reciprocity_abs_error, std::abs(g - g_rev) / p.area);
+            const double est =
+                p.area * l.error + (r != e && r->source == l.receiver ? q.area * r->error : 0.0);
+            if (est > 0.0)
+                c.reciprocity_vs_estimate = std::max(c.reciprocity_vs_estimate, std::abs(g - g_rev) / est);
+        }
+    }
+    const std::vector<double> row_err = h.to_patches(std::move(node_err));
+    for (const double e : row_err) c.max_row_error_estimate = std::max(c.max_row_error_estimate, e);
+    return c;
+}
+
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
                           const FormFactorOptions& leaf) {
     const Stopwatch clock;
     Hierarchy h;
     h.options = options;
     build_nodes(geometry, &h);
-    Refiner refiner(geometry, options, leaf, &h);
+    FormFactorOptions pairs = leaf;  // the pairs of patches are integrated as the adaptive method's
+    if (pairs.method == FormFactorMethod::Hierarchical) pairs.method = FormFactorMethod::Adaptive;
+    Refiner refiner(geometry, options, pairs, &h);
     refiner.run();
     refiner.collect(&h);
     h.first_link.assign(h.nodes.size() + 1, 0);

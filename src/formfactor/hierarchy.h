@@ -10,17 +10,20 @@
 //   K(x, y) = cos_x cos_y V(x, y) / (pi |x - y|^2)
 // at m x m Gauss points of each node, V the visibility through the scene's surfaces, and from it
 // the point-to-node factors F(x -> q) at p's samples and F(y -> p) at q's. A link gives every
-// point of a node the same factor, so the link is kept when those factors vary over each node
-// by at most the tolerance:
-//   max(spread_x F(x -> q), spread_y F(y -> p)) <= tolerance,
-// a criterion independent of the emission and the reflectance (the links stay valid when
-// lights and colours change) that counts partial visibility (hidden samples lower some
-// F(x -> q)). It estimates, and does not bound, the error: a source whose radiosity varies
-// across it is taken at its average. Otherwise the larger node is split. Two leaves take the dense
-// path's error-controlled pair (FormFactorRows::pair), closed forms included. A pair whose
-// samples are all zero is dropped only when a proof covers it (a planar node with all of the
-// other behind or in its plane, or a surface that cannot see itself) or when the nodes are
-// far apart for their size; otherwise it is refined.
+// point of p the same factor and takes q at its average radiosity, so its estimate, per unit of
+// radiosity, is the spread of F(x -> q) over p (none when p is one patch) plus the spread of
+// F(y -> p) A_q / A_p over q (none when q is one patch); both directions' estimates must be
+// within the tolerance. The criterion is independent of the emission and the reflectance (the
+// links stay valid when lights and colours change) and counts partial visibility (hidden samples
+// lower some factors). It estimates, and does not bound, the error. A pair that a horizon
+// crosses (some sample pairs face each other, some do not) is never linked: the clipped cosines
+// are not smooth there. Otherwise the larger node is split. Two leaves take the dense path's
+// error-controlled pair (FormFactorRows::pair), closed forms included. A pair with no visible
+// sample is dropped when a proof covers it (a planar node with all of the other behind or in
+// its plane, a node of an outward sphere with all of the other behind its tangent planes, a
+// surface that cannot see itself), or, when every sample pair faces the other but is hidden,
+// kept as a zero link whose estimate is the unoccluded factor if that is within the
+// tolerance; otherwise it is refined.
 //
 // No N x N array is built: memory is O(nodes + links).
 #include <cstdint>
@@ -56,7 +59,7 @@ struct Link {
 
 struct HierarchyStats {
     long long links = 0;
-    long long leaf_links = 0;  // between two patches, by the dense path's pair integral
+    long long leaf_links = 0;  // links between two patches, by the dense path's pair integral
     long long node_pairs = 0;  // node pairs examined during refinement
     long long kernel_samples = 0;
     long long dropped = 0;  // node pairs proven (or estimated) to exchange nothing
@@ -90,9 +93,24 @@ struct Hierarchy {
     std::vector<double> row_sums() const;
 };
 
+// The patch-to-patch matrix the links stand for: F_ij = sum over the links p <- q with patch i
+// under p and j under q of f_pq A_j / A_q (q's radiosity is its patches' area average), and
+// the estimates the same way. O(N^2) memory: for small scenes, tests and `formfactors --matrix`.
+FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g);
+
+// Memory held by the nodes, links and their index.
+std::size_t hierarchy_bytes(const Hierarchy& h);
+
 // Builds the hierarchy and its links. `leaf` sets the leaf pairs' integration (its method and
 // tolerance); culling and visibility follow it. Deterministic for any thread count.
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
                           const FormFactorOptions& leaf);
+
+// The matrix checks (form_factor.h) over the links: closure from row_sums(), reciprocity
+// A_p f_pq = A_q f_qp between each link and its reverse, the smallest coupling, the largest
+// estimates (per link, and summed down to each patch), and the links whose estimate misses its
+// target (a pair of patches: `leaf_tolerance` x min(A_i, A_j) / A_i; a link above them:
+// the hierarchy's tolerance).
+FormFactorChecks check_hierarchy(const Hierarchy& h, double leaf_tolerance);
 
 }  // namespace radiosa

@@ -103,5 +103,39 @@ TEST(Hierarchy, LinksAreReciprocalAndRowsCloseInAClosedScene) {
     for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_NEAR(rows[i], 1.0, err[i]) << i;
 }
 
+// Every node's bounding sphere holds its part of the surface: on spheres, whole, partial and
+// placed, each node's cap bound (tighter than the patches' own, the whole sphere) is checked
+// against a 9 x 9 grid of its points, and is smaller than the whole sphere.
+TEST(Hierarchy, NodeBoundsHoldTheirSurface) {
+    const Scene scene = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: ball, type: sphere, center: [0, 0, 0], radius: 1, patches: [16, 8], reflectance: [0.5, "
+        "0.5, "
+        "0.5]}\n"
+        "  - {name: dome, type: sphere, center: [4, 0, 0], radius: 2, facing: inward, polar_deg: [20, 110],\n"
+        "     angles_deg: [30, 300], patches: [7, 5], reflectance: [0.5, 0.5, 0.5],\n"
+        "     transform: {scale: 0.5, rotate_deg: {axis: [1, 1, 0], angle: 40}, translate: [0, 3, 1]}}\n",
+        "bounds.yaml");
+    const SceneGeometry g(scene);
+    HierarchyOptions o;
+    o.tolerance = 0.1;  // the nodes are what is checked, not the links
+    const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-3));
+    int tighter = 0;
+    for (const HierarchyNode& n : h.nodes) {
+        const Patch& lo = g.patch(g.patch_index(n.surface, n.is0, n.it0));
+        const Patch& hi = g.patch(g.patch_index(n.surface, n.is1 - 1, n.it1 - 1));
+        for (int a = 0; a <= 8; ++a)
+            for (int b = 0; b <= 8; ++b) {
+                const Vec3 x = g.surface(n.surface).point(lo.s0 + (hi.s1 - lo.s0) * a / 8.0,
+                                                          lo.t0 + (hi.t1 - lo.t0) * b / 8.0);
+                ASSERT_LE(glm::length(x - n.bound.center), n.bound.radius * (1.0 + 1e-12))
+                    << g.surface_name(n.surface) << " [" << n.is0 << ", " << n.is1 << ") x [" << n.it0 << ", "
+                    << n.it1 << ")";
+            }
+        tighter += n.bound.radius < 0.99 * g.surface_bound(n.surface).radius;
+    }
+    EXPECT_GT(tighter, static_cast<int>(h.nodes.size()) * 3 / 4);
+}
+
 }  // namespace
 }  // namespace radiosa

@@ -13,24 +13,35 @@ const char* method_name(FormFactorMethod m) {
             return "gauss";
         case FormFactorMethod::Adaptive:
             return "adaptive";
+        case FormFactorMethod::Hierarchical:
+            return "hierarchical";
     }
     return "?";
 }
 
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
+                                              std::optional<std::string> method,
                                               std::optional<double> tolerance,
                                               std::optional<int> gauss_points,
                                               std::optional<bool> visibility) {
+    // The command line first, then the scene file; either names one method. A command-line
+    // tolerance keeps the scene's hierarchical method (it is then the links' tolerance).
+    const std::string scene_method = scene.hierarchical   ? "hierarchical"
+                                     : scene.gauss_points ? "gauss"
+                                                          : "adaptive";
+    std::string m = method         ? *method
+                    : gauss_points ? "gauss"
+                    : tolerance    ? (scene.hierarchical ? "hierarchical" : "adaptive")
+                                   : scene_method;
+    const bool own = tolerance || (m == scene_method && scene.tolerance);  // a tolerance given for m
+    const double tol = tolerance ? *tolerance : own ? *scene.tolerance : 0.0;
     FormFactorOptions o;
-    // The command line first, then the scene file; either names one method.
-    if (gauss_points)
-        o = FormFactorOptions::gauss(*gauss_points);
-    else if (tolerance)
-        o = FormFactorOptions::adaptive(*tolerance);
-    else if (scene.gauss_points)
-        o = FormFactorOptions::gauss(*scene.gauss_points);
+    if (m == "gauss")
+        o = FormFactorOptions::gauss(gauss_points.value_or(scene.gauss_points.value_or(6)));
+    else if (m == "hierarchical")
+        o = FormFactorOptions::hierarchical(own ? tol : kDefaultLinkTolerance);
     else
-        o = FormFactorOptions::adaptive(scene.tolerance.value_or(kDefaultFormFactorTolerance));
+        o = FormFactorOptions::adaptive(own ? tol : kDefaultFormFactorTolerance);
     o.visibility = visibility.value_or(scene.visibility);
     return o;
 }
@@ -42,6 +53,9 @@ std::string describe(const FormFactorOptions& o) {
             return fmt::format("Gauss p = {} ({} terms/pair)", p, p * p * p * p);
         case FormFactorMethod::Adaptive:
             return fmt::format("adaptive, tolerance {:.0e}", o.tolerance);
+        case FormFactorMethod::Hierarchical:
+            return fmt::format("hierarchical, link tolerance {:.0e} (pairs of patches {:.0e})",
+                               o.link_tolerance, o.tolerance);
     }
     return "?";
 }

@@ -60,6 +60,7 @@ struct FormFactorSettings {
     std::optional<double> tolerance;  // absolute tolerance on each F_ij (error-controlled)
     std::optional<int> gauss_points;  // the paper's fixed rule, p points per parameter
     bool visibility = true;           // test occlusion
+    bool hierarchical = false;        // method: hierarchical (tolerance is then the links')
 };
 
 // The scene file's solve block: a target on the radiosity itself.

@@ -178,7 +178,18 @@ SensorDesc read_sensor(const YAML::Node& node, const std::string& file, int inde
 FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::string& file) {
     YamlMap m(node, file, "form_factors");
     FormFactorSettings f;
+    std::string method;
+    if (auto k = m.optional("method")) {
+        method = yaml_string(*k, file, "method");
+        if (method != "adaptive" && method != "gauss" && method != "hierarchical")
+            throw Error(loc_of(*k, file),
+                        "method must be adaptive, gauss or hierarchical, got '" + method + "'");
+        f.hierarchical = method == "hierarchical";
+        if (method == "gauss") f.gauss_points = 6;
+    }
     if (auto p = m.optional("gauss_points")) {
+        if (!method.empty() && method != "gauss")
+            throw Error(loc_of(*p, file), "gauss_points belongs to method: gauss, not " + method);
         const long long v = yaml_integer(*p, file, "gauss_points");
         if (v < 1 || v > kMaxGaussPoints)
             throw Error(loc_of(*p, file), "gauss_points must be between 1 and " +
@@ -186,6 +197,8 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
         f.gauss_points = static_cast<int>(v);
     }
     if (auto t = m.optional("tolerance")) {
+        if (f.gauss_points && method == "gauss")
+            throw Error(loc_of(*t, file), "form_factors: method gauss takes gauss_points, not tolerance");
         if (f.gauss_points)
             throw Error(loc_of(*t, file),
                         "form_factors: give tolerance (error-controlled) or gauss_points (the paper's "
@@ -195,7 +208,7 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
             throw Error(loc_of(*t, file), "tolerance must be in [1e-12, 0.1], got " + t->Scalar());
     }
     f.visibility = m.boolean_or("visibility", true);
-    m.reject_unknown_keys("tolerance | gauss_points, visibility");
+    m.reject_unknown_keys("method, tolerance | gauss_points, visibility");
     return f;
 }
 

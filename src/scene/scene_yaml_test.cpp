@@ -108,16 +108,47 @@ TEST(SceneYaml, DefaultsWhenOptionalKeysAreAbsent) {
     EXPECT_FALSE(s.form_factors.tolerance);
     EXPECT_TRUE(s.form_factors.visibility);
     const FormFactorOptions o =
-        resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, std::nullopt);
+        resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, std::nullopt, std::nullopt);
     EXPECT_EQ(o.method, FormFactorMethod::Adaptive);
     EXPECT_EQ(o.tolerance, kDefaultFormFactorTolerance);
-    EXPECT_EQ(resolve_form_factor_options(s.form_factors, std::nullopt, 6, std::nullopt).method,
+    EXPECT_EQ(resolve_form_factor_options(s.form_factors, std::nullopt, std::nullopt, 6, std::nullopt).method,
               FormFactorMethod::Fixed);
-    const FormFactorOptions t = resolve_form_factor_options(s.form_factors, 1e-3, std::nullopt, false);
+    const FormFactorOptions t =
+        resolve_form_factor_options(s.form_factors, std::nullopt, 1e-3, std::nullopt, false);
     EXPECT_EQ(t.method, FormFactorMethod::Adaptive);
     EXPECT_EQ(t.tolerance, 1e-3);
     EXPECT_FALSE(t.visibility);
     EXPECT_EQ(s.surfaces[0].emission, Rgb(0.0));
+}
+
+// method: hierarchical makes tolerance the links' tolerance; the command line's method or
+// tolerance overrides the scene's, and a tolerance for one method is not carried to another.
+TEST(SceneYaml, HierarchicalMethodAndItsTolerance) {
+    const std::string head = "form_factors: {method: hierarchical, tolerance: 1e-4}\n";
+    const Scene s = parse_scene(head + with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n"), "h.yaml");
+    EXPECT_TRUE(s.form_factors.hierarchical);
+    const auto resolve = [&](std::optional<std::string> m, std::optional<double> t) {
+        return resolve_form_factor_options(s.form_factors, std::move(m), t, std::nullopt, std::nullopt);
+    };
+    const FormFactorOptions o = resolve(std::nullopt, std::nullopt);
+    EXPECT_EQ(o.method, FormFactorMethod::Hierarchical);
+    EXPECT_EQ(o.link_tolerance, 1e-4);
+    EXPECT_EQ(o.tolerance, 1e-5);  // pairs of patches: a tenth of the links'
+    EXPECT_EQ(resolve(std::nullopt, 1e-3).link_tolerance, 1e-3);
+    const FormFactorOptions a = resolve("adaptive", std::nullopt);
+    EXPECT_EQ(a.method, FormFactorMethod::Adaptive);
+    EXPECT_EQ(a.tolerance, kDefaultFormFactorTolerance);
+    const Scene d = parse_scene(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n"), "d.yaml");
+    EXPECT_EQ(
+        resolve_form_factor_options(d.form_factors, "hierarchical", std::nullopt, std::nullopt, std::nullopt)
+            .link_tolerance,
+        kDefaultLinkTolerance);
+    EXPECT_EQ(parse_error("form_factors: {method: radiant}\n" +
+                          with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n")),
+              "s.yaml:1:24: method must be adaptive, gauss or hierarchical, got 'radiant'");
+    EXPECT_EQ(parse_error("form_factors: {method: hierarchical, gauss_points: 4}\n" +
+                          with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n")),
+              "s.yaml:1:52: gauss_points belongs to method: gauss, not hierarchical");
 }
 
 TEST(SceneYaml, UnknownKeyNamesItsLine) {

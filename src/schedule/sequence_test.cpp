@@ -231,8 +231,10 @@ TEST(Sequence, MotionEventsSetAndRampDisplacementsFromTheScenePlace) {
     EXPECT_NEAR(p.x, 0.0, 1e-15);
     EXPECT_NEAR(p.y, 0.5 - std::sqrt(0.5), 1e-15);
     EXPECT_NEAR(p.z, std::sqrt(0.5), 1e-15);
-    for (int k = 0; k < n; ++k)
-        if (k != sphere) EXPECT_TRUE(s.motion_at(n, 1.0)[static_cast<std::size_t>(k)].identity()) << k;
+    for (int k = 0; k < n; ++k) {
+        if (k == sphere) continue;
+        EXPECT_TRUE(s.motion_at(n, 1.0)[static_cast<std::size_t>(k)].identity()) << k;
+    }
     // At 3 s the translation is set back; the rotation stays (the event leaves it as it is).
     const Vec3 q = s.motion_at(n, 3.0)[static_cast<std::size_t>(sphere)].apply(Vec3(0, 0, 1));
     EXPECT_NEAR(q.y, -1.0, 1e-15);

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "util/error.h"
 
@@ -41,7 +42,69 @@ void gather_push(const Hierarchy& h, const std::vector<Rgb>& node_b, std::vector
     *patch_h = h.to_patches(*node_h);
 }
 
+// Per node, the largest radiosity of its patches, channel by channel.
+std::vector<Rgb> pull_max(const Hierarchy& h, const std::vector<Rgb>& B) {
+    std::vector<Rgb> top(h.nodes.size(), Rgb(0.0));
+    for (std::size_t i = h.nodes.size(); i-- > 0;) {
+        const HierarchyNode& n = h.nodes[i];
+        top[i] = n.leaf() ? B[static_cast<std::size_t>(n.patch)]
+                          : glm::max(top[static_cast<std::size_t>(n.child[0])],
+                                     top[static_cast<std::size_t>(n.child[1])]);
+    }
+    return top;
+}
+
 }  // namespace
+
+std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B) {
+    std::vector<Rgb> node_b, node_h, patch_h;
+    pull(h, B, &node_b);
+    gather_push(h, node_b, &node_h, &patch_h);
+    return patch_h;
+}
+
+SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B) {
+    const std::vector<Rgb> H = link_irradiance(h, B);
+    SolveDiagnostics d;
+    for (int c = 0; c < 3; ++c) {
+        double res2 = 0.0, e2 = 0.0, emitted = 0.0, absorbed = 0.0;
+        for (std::size_t i = 0; i < B.size(); ++i) {
+            const double area = h.nodes[static_cast<std::size_t>(h.leaf_of_patch[i])].area;
+            const double r = B[i][c] - m.rho[i][c] * H[i][c] - m.E[i][c];
+            res2 += r * r;
+            e2 += m.E[i][c] * m.E[i][c];
+            emitted += area * m.E[i][c];
+            absorbed += area * (1.0 - m.rho[i][c]) * H[i][c];
+        }
+        if (e2 > 0.0) d.residual = std::max(d.residual, std::sqrt(res2 / e2));
+        if (emitted > 0.0)
+            d.energy_balance_error = std::max(d.energy_balance_error, std::abs(emitted - absorbed) / emitted);
+        d.emitted_power[c] = emitted;
+        d.absorbed_power[c] = absorbed;
+    }
+    return d;
+}
+
+Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
+                        const LinkSolveOptions& options) {
+    const std::vector<Rgb> top = pull_max(h, B);
+    std::vector<Rgb> node_e(h.nodes.size(), Rgb(0.0));
+    for (const Link& l : h.links)
+        node_e[static_cast<std::size_t>(l.receiver)] += l.error * top[static_cast<std::size_t>(l.source)];
+    std::vector<Rgb> e = h.to_patches(std::move(node_e));
+    for (std::size_t i = 0; i < e.size(); ++i) e[i] *= m.rho[i];
+    const std::vector<Rgb> d = solve_links(h, m.rho, e, options).B;
+    Rgb out(0.0);
+    for (int c = 0; c < 3; ++c) {
+        double max_b = 0.0, max_d = 0.0;
+        for (std::size_t i = 0; i < B.size(); ++i) {
+            max_b = std::max(max_b, B[i][c]);
+            max_d = std::max(max_d, d[i][c]);
+        }
+        if (max_b > 0.0) out[c] = max_d / max_b;
+    }
+    return out;
+}
 
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options, const std::vector<Rgb>* start) {
@@ -49,6 +112,7 @@ LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const 
     s.B = start ? *start : E;
     std::vector<Rgb> node_b, node_h, patch_h;
     const std::size_t n = E.size();
+    double previous = 0.0;
     for (s.sweeps = 1; s.sweeps <= options.max_sweeps; ++s.sweeps) {
         pull(h, s.B, &node_b);
         gather_push(h, node_b, &node_h, &patch_h);
@@ -63,10 +127,20 @@ LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const 
         for (int c = 0; c < 3; ++c)
             if (top[c] > 0.0) s.change = std::max(s.change, change[c] / top[c]);
         if (s.change <= options.tolerance) return s;
+        // Jacobi's change shrinks by the spectral radius of rho F per sweep: past a few dozen
+        // sweeps, a rate that would need more than max_sweeps is known already.
+        if (s.sweeps >= 50 && previous > 0.0 && s.change > 0.0) {
+            const double rate = s.change / previous;
+            if (rate >= 1.0 ||
+                s.sweeps + std::log(options.tolerance / s.change) / std::log(rate) > options.max_sweeps)
+                break;
+        }
+        previous = s.change;
     }
-    throw Error("the radiosity over the hierarchy's links did not settle in " +
-                std::to_string(options.max_sweeps) + " sweeps (last change " + std::to_string(s.change) +
-                " of the largest radiosity): reflectance too close to 1 for this scene");
+    throw Error("the radiosity over the hierarchy's links does not settle within " +
+                std::to_string(options.max_sweeps) + " sweeps (change " + std::to_string(s.change) +
+                " of the largest radiosity after " + std::to_string(s.sweeps) +
+                "): reflectances too close to 1 for this scene; lower them");
 }
 
 }  // namespace radiosa

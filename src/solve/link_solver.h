@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "formfactor/hierarchy.h"
+#include "solve/solver.h"
 #include "util/math.h"
 
 namespace radiosa {
@@ -25,8 +26,22 @@ struct LinkSolution {
 };
 
 // rho and E per patch. `start`: a warm start (the radiosities for nearby lights), else E.
-// Throws Error when the sweeps do not settle within max_sweeps (no steady state).
+// Throws Error when the sweeps do not settle within max_sweeps, or as soon as their rate of
+// convergence shows they would not (no steady state, or too close to none).
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options = {}, const std::vector<Rgb>* start = nullptr);
+
+// The irradiance H_i = sum over patch i's links (its own and its ancestors') of f B_source.
+std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B);
+
+// Residual ||B - E - rho H|| / ||E|| and energy balance, as diagnose_solution does for a matrix.
+SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B);
+
+// An estimate (not a bound) of max_i |B_i - B*_i| / max_i B_i per channel, B* the radiosity with
+// exact coupling: every link's estimate times the largest radiosity under its source node, pushed
+// to the patches and carried through the scene's interreflection by one more link solve
+// ((I - rho F) d = rho e). 0 for a dark channel.
+Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
+                        const LinkSolveOptions& options = {});
 
 }  // namespace radiosa

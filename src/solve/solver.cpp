@@ -270,23 +270,32 @@ void StabilitySummary::add(const RadiositySolver& solver) {
     }
 }
 
-std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho,
-                               const std::vector<Rgb>& E, bool closed, const std::string& scene_file) {
-    static const char* names[3] = {"red", "green", "blue"};
-    std::string warning;
-    for (int c = 0; c < 3; ++c) {
-        bool lit = false, all_one = true;
-        for (std::size_t i = 0; i < rho.size(); ++i) {
-            lit = lit || E[i][c] > 0.0;
-            all_one = all_one && rho[i][c] == 1.0;
-        }
-        if (!lit) continue;
-        const RadiositySolver::Stability& s = solver.stability(c);
-        if (closed && all_one)
+namespace {
+const char* const kChannelNames[3] = {"red", "green", "blue"};
+bool lit(const std::vector<Rgb>& E, int c) {
+    return std::any_of(E.begin(), E.end(), [c](const Rgb& e) { return e[c] > 0.0; });
+}
+}  // namespace
+
+void refuse_lossless(const std::vector<Rgb>& rho, const std::vector<Rgb>& E, bool closed,
+                     const std::string& scene_file) {
+    if (!closed) return;
+    for (int c = 0; c < 3; ++c)
+        if (lit(E, c) && std::all_of(rho.begin(), rho.end(), [c](const Rgb& r) { return r[c] == 1.0; }))
             throw Error(
-                scene_file + ": every reflectance is 1 in the " + names[c] +
+                scene_file + ": every reflectance is 1 in the " + kChannelNames[c] +
                 " channel of a closed scene: light is never absorbed, so radiosity grows without bound and "
                 "there is no steady state (make some reflectance < 1, or the scene open)");
+}
+
+std::string check_steady_state(const RadiositySolver& solver, const std::vector<Rgb>& rho,
+                               const std::vector<Rgb>& E, bool closed, const std::string& scene_file) {
+    const char* const* names = kChannelNames;
+    std::string warning;
+    refuse_lossless(rho, E, closed, scene_file);
+    for (int c = 0; c < 3; ++c) {
+        if (!lit(E, c)) continue;
+        const RadiositySolver::Stability& s = solver.stability(c);
         if (s.spectral_lo >= 1.0)
             throw Error(scene_file + ": the " + names[c] +
                         " channel has no steady state: the spectral radius of rho F is " +

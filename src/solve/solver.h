@@ -74,6 +74,11 @@ struct StabilitySummary {
     void add(const RadiositySolver& solver);
 };
 
+// Refuses (throws Error naming `scene_file`) a lit channel with reflectance 1 on every patch of
+// a closed scene: no steady state, whatever the form factors (check_steady_state's first test).
+void refuse_lossless(const std::vector<Rgb>& rho, const std::vector<Rgb>& E, bool closed,
+                     const std::string& scene_file);
+
 // Refuses (throws Error naming `scene_file`) a system without a steady state — reflectance 1
 // in every patch of a closed scene for a lit channel, or a spectral radius of rho F at or above
 // 1 — and returns a one-line warning, or "", when it is nearly singular (spectral radius
