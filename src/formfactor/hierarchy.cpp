@@ -58,11 +58,58 @@ BoundingSphere cap_bound(const Surface& surface, double s0, double s1, double t0
     return cap.radius < fallback.radius ? cap : fallback;
 }
 
+// A link's slopes (Link::gs, gt, cs, ct).
+struct Slopes {
+    double gs = 0.0, gt = 0.0, cs = 0.0, ct = 0.0;
+};
+
 struct Sample {
     Vec3 x;
-    Vec3 n;    // unit front normal
-    double w;  // area weight
+    Vec3 n;       // unit front normal
+    double w;     // area weight
+    double u, v;  // where in the node, each in [-1, 1] along s and t
 };
+
+// A weighted least-squares plane through values F_a at the samples: F ~ mean + gs (u - u_mean)
+// + gt (v - v_mean) (u and v fitted separately: on a product Gauss grid they are nearly
+// uncorrelated), and the spread of what the plane leaves.
+struct LinearFit {
+    double gs = 0.0, gt = 0.0;
+    double residual_spread = 0.0;
+    double ms = 0.0, mt = 0.0;  // sum_a w_a F_a (u_a - u_mean), and along v
+};
+LinearFit fit_plane(const Sample* xs, const std::vector<double>& F) {
+    double w = 0.0, wu = 0.0, wv = 0.0, wf = 0.0;
+    for (std::size_t a = 0; a < F.size(); ++a) {
+        w += xs[a].w;
+        wu += xs[a].w * xs[a].u;
+        wv += xs[a].w * xs[a].v;
+        wf += xs[a].w * F[a];
+    }
+    LinearFit fit;
+    if (!(w > 0.0)) return fit;
+    const double um = wu / w, vm = wv / w, fm = wf / w;
+    double suu = 0.0, svv = 0.0, suf = 0.0, svf = 0.0;
+    for (std::size_t a = 0; a < F.size(); ++a) {
+        const double du = xs[a].u - um, dv = xs[a].v - vm, df = F[a] - fm;
+        suu += xs[a].w * du * du;
+        svv += xs[a].w * dv * dv;
+        suf += xs[a].w * du * df;
+        svf += xs[a].w * dv * df;
+    }
+    fit.ms = suf;
+    fit.mt = svf;
+    fit.gs = suu > 0.0 ? suf / suu : 0.0;
+    fit.gt = svv > 0.0 ? svf / svv : 0.0;
+    double lo = 0.0, hi = 0.0;
+    for (std::size_t a = 0; a < F.size(); ++a) {
+        const double r = F[a] - fm - fit.gs * (xs[a].u - um) - fit.gt * (xs[a].v - vm);
+        lo = a == 0 ? r : std::min(lo, r);
+        hi = a == 0 ? r : std::max(hi, r);
+    }
+    fit.residual_spread = hi - lo;
+    return fit;
+}
 
 // The nodes of one surface's patch grid: a binary tree halving the longer side.
 void build_nodes(const SceneGeometry& g, Hierarchy* h) {
@@ -124,6 +171,16 @@ public:
         : m_g(g), m_o(o), m_leaf(leaf), m_rows(g, leaf), m_h(*h), m_m(o.samples) {
         m_samples = node_samples(m_m);
         m_coarse = node_samples(m_m - 1);
+        const std::size_t mm = static_cast<std::size_t>(m_m * m_m);
+        for (std::size_t i = 0; i < h->nodes.size(); ++i) {
+            double w = 0.0, wu = 0.0, wv = 0.0;
+            for (std::size_t a = i * mm; a < (i + 1) * mm; ++a) {
+                w += m_samples[a].w;
+                wu += m_samples[a].w * m_samples[a].u;
+                wv += m_samples[a].w * m_samples[a].v;
+            }
+            if (w > 0.0) h->nodes[i].cu = wu / w, h->nodes[i].cv = wv / w;
+        }
         m_eps = 1e-9 * g.scale();
     }
 
@@ -169,9 +226,13 @@ private:
             Patch rect_only;  // quadrature_points reads the parameter rectangle only
             const Rect r = rect(static_cast<int>(i));
             rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
-            for (const QuadPoint& q : quadrature_points(m_g.surface(m_h.nodes[i].surface), rect_only, rule)) {
-                const double w = glm::length(q.nw);
-                out.push_back({q.x, w > 0.0 ? q.nw / w : Vec3(0.0), w});
+            const std::vector<QuadPoint> qs =
+                quadrature_points(m_g.surface(m_h.nodes[i].surface), rect_only, rule);
+            for (std::size_t k = 0; k < qs.size(); ++k) {  // s inner, t outer (cubature.h)
+                const double w = glm::length(qs[k].nw);
+                out.push_back({qs[k].x, w > 0.0 ? qs[k].nw / w : Vec3(0.0), w,
+                               rule.x[k % static_cast<std::size_t>(m)],
+                               rule.x[k / static_cast<std::size_t>(m)]});
             }
         }
         return out;
@@ -195,9 +256,17 @@ private:
         return g;
     }
 
-    bool add(int r, int s, double f, double e) {
+    // A link r <- s's slopes from the fits of F(x -> s) over r and of F(y -> r) over s.
+    static Slopes slopes(const HierarchyNode& r, const LinearFit& over_r, const HierarchyNode& s,
+                         const LinearFit& over_s) {
+        Slopes k;
+        if (!r.leaf()) k.gs = over_r.gs, k.gt = over_r.gt;
+        if (!s.leaf()) k.cs = over_s.ms / r.area, k.ct = over_s.mt / r.area;
+        return k;
+    }
+    bool add(int r, int s, double f, double e, const Slopes& k = {}) {
         if (f == 0.0 && e == 0.0) return false;
-        m_links.local().push_back({r, s, f, e});
+        m_links.local().push_back({r, s, f, e, k.gs, k.gt, k.cs, k.ct});
         return true;
     }
 
@@ -263,15 +332,16 @@ private:
         return out;
     }
 
-    // The coupling of two nodes from m x m samples on each: G = A_p F_pq = A_q F_qp, and how much
-    // the point-to-node factors vary over each node: F(x -> q) over the samples x of p, and
-    // F(y -> p) over those of q. A link hands every point of p the same F_pq, so that spread is
-    // the error it makes in p's irradiance from a uniform q, per unit of q's radiosity.
+    // The coupling of two nodes from m x m samples on each: G = A_p F_pq = A_q F_qp, and how the
+    // point-to-node factors vary over each node: F(x -> q) over the samples x of p, and F(y -> p)
+    // over those of q.
     struct Coupling {
         double g = 0.0;
-        double spread_p = 0.0, spread_q = 0.0;
         double quadrature = 0.0;  // |g - g'|, g' from (m - 1) x (m - 1) points: g's own error
-        bool any = false;         // some sample pair sees each other
+        // F(x -> q) over p and F(y -> p) over q as planes in the nodes' (u, v): the links carry
+        // the slopes, so what the planes leave is the error.
+        LinearFit fit_p, fit_q;
+        bool any = false;  // some sample pair sees each other
         // The largest point-to-node factor F(x -> q) over p's samples, and F(y -> p) over q's,
         // without occlusion: what a pair whose samples are all hidden could still exchange.
         double open_p = 0.0, open_q = 0.0;
@@ -307,13 +377,9 @@ private:
                 c.g += xs[a].w * ys[b].w * k;
                 c.any = true;
             }
-        const auto spread = [](const std::vector<double>& v) {
-            const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-            return *hi - *lo;
-        };
         c.horizon = away > 0 && away < mm * mm;
-        c.spread_p = spread(to_q);
-        c.spread_q = spread(to_p);
+        c.fit_p = fit_plane(xs, to_q);
+        c.fit_q = fit_plane(ys, to_p);
         c.open_p = *std::max_element(open_q.begin(), open_q.end());
         c.open_q = *std::max_element(open_p.begin(), open_p.end());
         if (c.any) c.quadrature = std::abs(c.g - coarse_coupling(p, q, guard, &tests));
@@ -359,12 +425,15 @@ private:
         const Coupling c = sample(p, q);
         // The error of p's gather over the link, per unit of radiosity: the receiver's spread
         // (none when p is one patch) and the source's, F(y -> p) per unit area of p over q.
-        const double sp = a.leaf() ? 0.0 : c.spread_p, sq = b.leaf() ? 0.0 : c.spread_q;
-        const double e_pq = sp + (sq * b.area + c.quadrature) / a.area;
-        const double e_qp = sq + (sp * a.area + c.quadrature) / b.area;
+        // Each side's plane carries its slopes (the receiver's, and the source's against its
+        // radiosity slopes); what the planes leave is the estimate.
+        const double rp = a.leaf() ? 0.0 : c.fit_p.residual_spread;
+        const double rq = b.leaf() ? 0.0 : c.fit_q.residual_spread;
+        const double e_pq = rp + (rq * b.area + c.quadrature) / a.area;
+        const double e_qp = rq + (rp * a.area + c.quadrature) / b.area;
         if (c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance) {
-            add(p, q, c.g / a.area, e_pq);
-            add(q, p, c.g / b.area, e_qp);
+            add(p, q, c.g / a.area, e_pq, slopes(a, c.fit_p, b, c.fit_q));
+            add(q, p, c.g / b.area, e_qp, slopes(b, c.fit_q, a, c.fit_p));
             return;
         }
         // Every sample pair hidden: a zero coupling whose estimate is what the open view
@@ -400,18 +469,69 @@ private:
 
 }  // namespace
 
+namespace {
+
+template <class T>
+std::vector<T> irradiance_of(const Hierarchy& h, const std::vector<T>& B) {
+    const std::size_t n = h.nodes.size();
+    std::vector<T> b(n, T(0.0)), bs(n, T(0.0)), bt(n, T(0.0));
+    for (std::size_t i = n; i-- > 0;) {  // pull: children come after their parent
+        const HierarchyNode& d = h.nodes[i];
+        if (d.leaf()) {
+            b[i] = B[static_cast<std::size_t>(d.patch)];
+            continue;
+        }
+        const std::size_t k0 = static_cast<std::size_t>(d.child[0]),
+                          k1 = static_cast<std::size_t>(d.child[1]);
+        const double a0 = h.nodes[k0].area / d.area, a1 = h.nodes[k1].area / d.area;
+        b[i] = a0 * b[k0] + a1 * b[k1];
+        // The halves' area centroids lie centroid_gap apart in the node's u (or v).
+        const bool along_s = h.nodes[k0].is1 != d.is1;
+        (along_s ? bs : bt)[i] = (b[k1] - b[k0]) / h.centroid_gap(d);
+        (along_s ? bt : bs)[i] = a0 * (along_s ? bt : bs)[k0] + a1 * (along_s ? bt : bs)[k1];
+    }
+    std::vector<T> hh(n, T(0.0)), hs(n, T(0.0)), ht(n, T(0.0));
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t r) {
+        T sum(0.0), ss(0.0), st(0.0);
+        for (auto l = h.first_link[r]; l < h.first_link[r + 1]; ++l) {
+            const Link& k = h.links[static_cast<std::size_t>(l)];
+            const std::size_t q = static_cast<std::size_t>(k.source);
+            sum += k.f * b[q] + k.cs * bs[q] + k.ct * bt[q];
+            ss += k.gs * b[q];
+            st += k.gt * b[q];
+        }
+        hh[r] = sum, hs[r] = ss, ht[r] = st;
+    });
+    return h.push_linear(std::move(hh), std::move(hs), std::move(ht));
+}
+
+}  // namespace
+
+std::vector<double> Hierarchy::irradiance(const std::vector<double>& B) const {
+    return irradiance_of(*this, B);
+}
+std::vector<Rgb> Hierarchy::irradiance(const std::vector<Rgb>& B) const { return irradiance_of(*this, B); }
+
 std::vector<double> Hierarchy::row_sums() const {
-    std::vector<double> node_sum(nodes.size(), 0.0);
-    for (const Link& l : links) node_sum[static_cast<std::size_t>(l.receiver)] += l.f;
-    return to_patches(std::move(node_sum));
+    return irradiance(std::vector<double>(leaf_of_patch.size(), 1.0));
 }
 
 FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g) {
     const int n = g.patch_count();
+    const std::size_t un = static_cast<std::size_t>(n);
     FormFactors ff;
     ff.F = DenseMatrix(n);
-    ff.error.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0.0);
+    ff.error.assign(un * un, 0.0);
     for (int i = 0; i < n; ++i) ff.area.push_back(g.patch(i).area);
+    // Column j: the irradiance from radiosity 1 on patch j alone, as the solve gathers it.
+    std::vector<double> unit(un, 0.0);
+    for (std::size_t j = 0; j < un; ++j) {
+        unit[j] = 1.0;
+        const std::vector<double> column = h.irradiance(unit);
+        unit[j] = 0.0;
+        for (std::size_t i = 0; i < un; ++i) ff.F.data[i * un + j] = column[i];
+    }
+    // Estimates: each link's, shared by area among its source's patches, at each receiver patch.
     const auto patches = [&](const HierarchyNode& a) {
         std::vector<int> out;
         for (int it = a.it0; it < a.it1; ++it)
@@ -422,12 +542,9 @@ FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g) {
         const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
         const std::vector<int> js = patches(q);
         for (const int i : patches(h.nodes[static_cast<std::size_t>(l.receiver)]))
-            for (const int j : js) {
-                const std::size_t at =
-                    static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j);
-                ff.F.data[at] += l.f * ff.area[static_cast<std::size_t>(j)] / q.area;
-                ff.error[at] += l.error * ff.area[static_cast<std::size_t>(j)] / q.area;
-            }
+            for (const int j : js)
+                ff.error[static_cast<std::size_t>(i) * un + static_cast<std::size_t>(j)] +=
+                    l.error * ff.area[static_cast<std::size_t>(j)] / q.area;
     }
     ff.stats = h.leaf_stats;
     return ff;

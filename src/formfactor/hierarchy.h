@@ -1,7 +1,7 @@
 #pragma once
 // Hierarchical form factors (Hanrahan, Salzman & Aupperle 1991): instead of the N^2 patch pairs,
 // a set of links between nodes of a hierarchy over each surface's patch grid, each link one
-// constant coupling between two groups of patches. The scene's patches are the leaves, so the
+// coupling (a factor with slopes) between two groups of patches. The scene's patches are the leaves, so the
 // radiosity is still one value per patch, directly comparable with the dense path.
 //
 // A node covers a rectangle of its surface's patch grid; its two children halve the longer
@@ -9,21 +9,23 @@
 // itself) and, for a pair of nodes p, q, samples the point-to-point kernel
 //   K(x, y) = cos_x cos_y V(x, y) / (pi |x - y|^2)
 // at m x m Gauss points of each node, V the visibility through the scene's surfaces, and from it
-// the point-to-node factors F(x -> q) at p's samples and F(y -> p) at q's. A link gives every
-// point of p the same factor and takes q at its average radiosity, so its estimate, per unit of
-// radiosity, is the spread of F(x -> q) over p (none when p is one patch) plus the spread of
-// F(y -> p) A_q / A_p over q (none when q is one patch); both directions' estimates must be
-// within the tolerance. The criterion is independent of the emission and the reflectance (the
-// links stay valid when lights and colours change) and counts partial visibility (hidden samples
-// lower some factors). It estimates, and does not bound, the error. A pair that a horizon
-// crosses (some sample pairs face each other, some do not) is never linked: the clipped cosines
-// are not smooth there. Otherwise the larger node is split. Two leaves take the dense path's
-// error-controlled pair (FormFactorRows::pair), closed forms included. A pair with no visible
-// sample is dropped when a proof covers it (a planar node with all of the other behind or in
-// its plane, a node of an outward sphere with all of the other behind its tangent planes, a
-// surface that cannot see itself), or, when every sample pair faces the other but is hidden,
-// kept as a zero link whose estimate is the unoccluded factor if that is within the
-// tolerance; otherwise it is refined.
+// the point-to-node factors F(x -> q) at p's samples and F(y -> p) at q's. Each is fitted by a
+// plane in the node's parameters (u, v in [-1, 1]); a link carries the receiver's plane (its
+// slopes push down to p's patches) and the source's (gathered against q's radiosity slopes,
+// pulled up from its children), so what the planes leave is its error: the estimate, per unit
+// of radiosity, is the receiver's residual spread (none when p is one patch), plus the source's
+// residual spread times A_q / A_p (none when q is one patch), plus the coupling's own quadrature
+// error (|3 x 3 - 2 x 2 points| / A_p). Both directions' estimates must be within the tolerance.
+// The criterion is independent of the emission and the reflectance (the links stay valid when
+// lights and colours change) and counts partial visibility (hidden samples lower some
+// factors). It estimates, and does not bound, the error. A pair that a horizon crosses (some
+// sample pairs face each other, some do not) is never linked: the clipped cosines are not smooth
+// there. Otherwise the larger node is split. Two leaves take the dense path's error-controlled
+// pair (FormFactorRows::pair), closed forms included. A pair with no visible sample is dropped
+// when a proof covers it (a planar node with all of the other behind or in its plane, a node of
+// an outward sphere with all of the other behind its tangent planes, a surface that cannot see
+// itself), or, when every sample pair faces the other but is hidden, kept as a zero link whose
+// estimate is the unoccluded factor if that is within the tolerance; otherwise it is refined.
 //
 // No N x N array is built: memory is O(nodes + links).
 #include <cstdint>
@@ -45,6 +47,9 @@ struct HierarchyNode {
     int patch = -1;                          // a leaf's global patch index, else -1
     int child[2] = {-1, -1};
     double area = 0.0;
+    // The area-weighted centroid in the node's own parameters (u, v in [-1, 1] across it): 0 on
+    // a plane, off 0 where the area element varies (towards a sphere's equator).
+    double cu = 0.0, cv = 0.0;
     BoundingSphere bound;
     bool leaf() const { return patch >= 0; }
 };
@@ -54,7 +59,13 @@ struct HierarchyNode {
 struct Link {
     int receiver = 0, source = 0;
     double f = 0.0;
-    double error = 0.0;  // estimate of |f - exact|
+    double error = 0.0;  // estimate of |f - exact| at every point of the receiver
+    // The factor's slopes over the receiver: F(x -> source) ~ f + gs u + gt v, u and v in
+    // [-1, 1] across the receiver's parameter rectangle (area-weighted mean f); 0 for a patch.
+    double gs = 0.0, gt = 0.0;
+    // The source's slopes: the receiver also gathers cs Bs + ct Bt, Bs and Bt the source's
+    // radiosity slopes along u and v (Hierarchy::irradiance); 0 for a patch.
+    double cs = 0.0, ct = 0.0;
 };
 
 struct HierarchyStats {
@@ -89,8 +100,58 @@ struct Hierarchy {
         for (const int leaf : leaf_of_patch) out.push_back(per_node[static_cast<std::size_t>(leaf)]);
         return out;
     }
+    // Per-node values with slopes (value + hs u + ht v over the node), pushed down to the
+    // patches: a child takes the parent's plane over its half, so the children's area-weighted
+    // mean stays the parent's value (T: double or Rgb).
+    template <class T>
+    std::vector<T> push_linear(std::vector<T> h, std::vector<T> hs, std::vector<T> ht) const {
+        for (std::size_t i = 0; i < nodes.size(); ++i) {
+            const HierarchyNode& n = nodes[i];
+            if (n.leaf()) continue;
+            const HierarchyNode& c0 = nodes[static_cast<std::size_t>(n.child[0])];
+            const HierarchyNode& c1 = nodes[static_cast<std::size_t>(n.child[1])];
+            const bool along_s = c0.is1 != n.is1;
+            const double alpha = split_fraction(n);
+            const T slope = along_s ? hs[i] : ht[i];
+            const std::size_t k0 = static_cast<std::size_t>(n.child[0]),
+                              k1 = static_cast<std::size_t>(n.child[1]);
+            // The children's area centroids lie d apart along the split: each takes the plane's
+            // mean over itself, and their area-weighted mean stays the parent's value.
+            const double d = centroid_gap(n);
+            h[k0] += h[i] - slope * (d * c1.area / n.area);
+            h[k1] += h[i] + slope * (d * c0.area / n.area);
+            (along_s ? hs : ht)[k0] += slope * alpha;
+            (along_s ? hs : ht)[k1] += slope * (1.0 - alpha);
+            (along_s ? ht : hs)[k0] += (along_s ? ht : hs)[i];
+            (along_s ? ht : hs)[k1] += (along_s ? ht : hs)[i];
+        }
+        std::vector<T> out;
+        out.reserve(leaf_of_patch.size());
+        for (const int leaf : leaf_of_patch) out.push_back(h[static_cast<std::size_t>(leaf)]);
+        return out;
+    }
+    // Of a split node: the share of its split side in its first child, and how far apart its
+    // children's area centroids lie along the split in its (u, v) (1 when the area element is
+    // uniform).
+    double split_fraction(const HierarchyNode& n) const {
+        const HierarchyNode& c0 = nodes[static_cast<std::size_t>(n.child[0])];
+        return c0.is1 != n.is1 ? double(c0.is1 - n.is0) / (n.is1 - n.is0)
+                               : double(c0.it1 - n.it0) / (n.it1 - n.it0);
+    }
+    double centroid_gap(const HierarchyNode& n) const {
+        const HierarchyNode& c0 = nodes[static_cast<std::size_t>(n.child[0])];
+        const HierarchyNode& c1 = nodes[static_cast<std::size_t>(n.child[1])];
+        const bool along_s = c0.is1 != n.is1;
+        const double a = split_fraction(n);
+        return 1.0 + (1.0 - a) * (along_s ? c1.cu : c1.cv) - a * (along_s ? c0.cu : c0.cv);
+    }
     // sum_j F_ij for every patch.
     std::vector<double> row_sums() const;
+    // The irradiance each patch receives from radiosities B per patch: pull (every node's
+    // area-weighted mean and its slopes along u and v from its children's), gather over the
+    // links (f, the receiver's and the source's slopes), push down (push_linear).
+    std::vector<double> irradiance(const std::vector<double>& B) const;
+    std::vector<Rgb> irradiance(const std::vector<Rgb>& B) const;
 };
 
 // The patch-to-patch matrix the links stand for: F_ij = sum over the links p <- q with patch i

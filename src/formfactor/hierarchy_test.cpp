@@ -139,3 +139,45 @@ TEST(Hierarchy, NodeBoundsHoldTheirSurface) {
 
 }  // namespace
 }  // namespace radiosa
+
+namespace radiosa {
+namespace {
+
+// Two parallel 2 x 2 squares 1 apart, 16 x 16 patches each: links join groups of patches, and
+// the row sums F(patch -> other square), pushed down with the links' slopes, follow the
+// patches' own integrals; their area-weighted sum is the closed form for the squares.
+TEST(Hierarchy, SlopesCarryTheFactorAcrossALink) {
+    const Scene scene = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: low, type: quad, corners: [[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0]], patches: [16, "
+        "16],\n"
+        "     reflectance: [0.5, 0.5, 0.5]}\n"
+        "  - {name: high, type: quad, corners: [[0, 0, 1], [0, 2, 1], [2, 2, 1], [2, 0, 1]], patches: [16, "
+        "16],\n"
+        "     reflectance: [0.5, 0.5, 0.5]}\n",
+        "squares.yaml");
+    const SceneGeometry g(scene);
+    HierarchyOptions o;
+    o.tolerance = 1e-4;
+    const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
+    EXPECT_LT(h.stats.leaf_links, h.stats.links / 2);  // most coupling is between groups
+    const FormFactors dense = compute_form_factors(g, FormFactorOptions::adaptive(1e-6));
+    const std::vector<double> rows = h.row_sums();
+    double worst = 0.0, total = 0.0, area = 0.0;
+    for (int i = 0; i < g.patch_count(); ++i) {
+        double d = 0.0;
+        for (int j = 0; j < g.patch_count(); ++j) d += dense.F(i, j);
+        worst = std::max(worst, std::abs(rows[static_cast<std::size_t>(i)] - d));
+        if (g.patch(i).surface == 0) {
+            total += g.patch(i).area * rows[static_cast<std::size_t>(i)];
+            area += g.patch(i).area;
+        }
+    }
+    std::printf("links %lld (%lld between patches), max |row - dense row| %.2e\n", h.stats.links,
+                h.stats.leaf_links, worst);
+    EXPECT_LT(worst, 2e-4);
+    EXPECT_NEAR(total / area, analytic::parallel_rectangles(2.0, 2.0, 1.0), 1e-5);
+}
+
+}  // namespace
+}  // namespace radiosa
