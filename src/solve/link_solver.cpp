@@ -26,25 +26,10 @@ std::vector<Rgb> pull_max(const Hierarchy& h, const std::vector<Rgb>& B) {
 std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B) { return h.irradiance(B); }
 
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B) {
-    const std::vector<Rgb> H = link_irradiance(h, B);
-    SolveDiagnostics d;
-    for (int c = 0; c < 3; ++c) {
-        double res2 = 0.0, e2 = 0.0, emitted = 0.0, absorbed = 0.0;
-        for (std::size_t i = 0; i < B.size(); ++i) {
-            const double area = h.nodes[static_cast<std::size_t>(h.leaf_of_patch[i])].area;
-            const double r = B[i][c] - m.rho[i][c] * H[i][c] - m.E[i][c];
-            res2 += r * r;
-            e2 += m.E[i][c] * m.E[i][c];
-            emitted += area * m.E[i][c];
-            absorbed += area * (1.0 - m.rho[i][c]) * H[i][c];
-        }
-        if (e2 > 0.0) d.residual = std::max(d.residual, std::sqrt(res2 / e2));
-        if (emitted > 0.0)
-            d.energy_balance_error = std::max(d.energy_balance_error, std::abs(emitted - absorbed) / emitted);
-        d.emitted_power[c] = emitted;
-        d.absorbed_power[c] = absorbed;
-    }
-    return d;
+    std::vector<double> area;
+    area.reserve(B.size());
+    for (const int leaf : h.leaf_of_patch) area.push_back(h.nodes[static_cast<std::size_t>(leaf)].area);
+    return diagnose_irradiance(area, m, B, h.irradiance(B));
 }
 
 Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,

@@ -359,20 +359,17 @@ std::vector<Rgb> RadiositySolver::solve(const std::vector<Rgb>& E, const std::ve
     return B;
 }
 
-SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area,
-                                   const Materials& mat, const std::vector<Rgb>& B) {
+SolveDiagnostics diagnose_irradiance(const std::vector<double>& area, const Materials& mat,
+                                     const std::vector<Rgb>& B, const std::vector<Rgb>& H) {
     SolveDiagnostics d;
-    const int n = F.n;
     for (int c = 0; c < 3; ++c) {
         double res2 = 0.0, e2 = 0.0, emitted = 0.0, absorbed = 0.0;
-        for (int i = 0; i < n; ++i) {
-            double H = 0.0;
-            for (int j = 0; j < n; ++j) H += F(i, j) * B[j][c];
-            const double r = B[i][c] - mat.rho[i][c] * H - mat.E[i][c];
+        for (std::size_t i = 0; i < B.size(); ++i) {
+            const double r = B[i][c] - mat.rho[i][c] * H[i][c] - mat.E[i][c];
             res2 += r * r;
             e2 += mat.E[i][c] * mat.E[i][c];
             emitted += area[i] * mat.E[i][c];
-            absorbed += area[i] * (1.0 - mat.rho[i][c]) * H;
+            absorbed += area[i] * (1.0 - mat.rho[i][c]) * H[i][c];
         }
         if (e2 > 0.0) d.residual = std::max(d.residual, std::sqrt(res2 / e2));
         if (emitted > 0.0)
@@ -381,6 +378,16 @@ SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<doubl
         d.absorbed_power[c] = absorbed;
     }
     return d;
+}
+
+SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area,
+                                   const Materials& mat, const std::vector<Rgb>& B) {
+    const int n = F.n;
+    std::vector<Rgb> H(static_cast<std::size_t>(n), Rgb(0.0));
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            H[static_cast<std::size_t>(i)] += F(i, j) * B[static_cast<std::size_t>(j)];
+    return diagnose_irradiance(area, mat, B, H);
 }
 
 Rgb radiosity_error_bound(const RadiositySolver& solver, const DenseMatrix& F,

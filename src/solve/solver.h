@@ -108,5 +108,8 @@ Rgb radiosity_error_bound(const RadiositySolver& solver, const DenseMatrix& F,
 
 SolveDiagnostics diagnose_solution(const DenseMatrix& F, const std::vector<double>& area, const Materials& m,
                                    const std::vector<Rgb>& B);
+// The same from the irradiance H_i = sum_j F_ij B_j however it was gathered (a matrix, links).
+SolveDiagnostics diagnose_irradiance(const std::vector<double>& area, const Materials& m,
+                                     const std::vector<Rgb>& B, const std::vector<Rgb>& H);
 
 }  // namespace radiosa
