@@ -22,16 +22,12 @@ namespace radiosa {
 namespace fs = std::filesystem;
 using test::CliRun;
 using test::fresh_dir;
+using test::read_json;
 using test::run;
 
 namespace {
 const std::string kScene = RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml";
 const std::string kCamA = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-a.yaml";
-
-nlohmann::json read(const fs::path& p) {
-    std::ifstream in(p);
-    return nlohmann::json::parse(in);
-}
 
 // The doubles of a .npy file (format 1.0: magic, version, a 2-byte header length, the header).
 std::vector<double> npy_values(const fs::path& p) {
@@ -86,7 +82,7 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     ASSERT_EQ(rl.size(), 86u);
     for (std::size_t i = 0; i < rd.size(); ++i)
         for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(rl[i][k], rd[i][k], 1e-8) << i << " " << k;
-    const nlohmann::json j = read(d / "links.json");
+    const nlohmann::json j = read_json(d / "links.json");
     EXPECT_EQ(j["form_factor_method"], "hierarchical");
     EXPECT_EQ(j["link_tolerance"], 1e-5);
     EXPECT_DOUBLE_EQ(j["form_factor_tolerance"].get<double>(), 1e-6);

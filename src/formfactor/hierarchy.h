@@ -1,8 +1,8 @@
 #pragma once
 // Hierarchical form factors (Hanrahan, Salzman & Aupperle 1991): instead of the N^2 patch pairs,
 // a set of links between nodes of a hierarchy over each surface's patch grid, each link one
-// coupling (a factor with slopes) between two groups of patches. The scene's patches are the leaves, so the
-// radiosity is still one value per patch, directly comparable with the dense path.
+// coupling (a factor with slopes) between two groups of patches. The scene's patches are the
+// leaves, so the radiosity is still one value per patch, directly comparable with the dense path.
 //
 // A node covers a rectangle of its surface's patch grid; its two children halve the longer
 // side. Refinement starts from every pair of surfaces (a surface with itself when it can see
@@ -154,9 +154,10 @@ struct Hierarchy {
     std::vector<Rgb> irradiance(const std::vector<Rgb>& B) const;
 };
 
-// The patch-to-patch matrix the links stand for: F_ij = sum over the links p <- q with patch i
-// under p and j under q of f_pq A_j / A_q (q's radiosity is its patches' area average), and
-// the estimates the same way. O(N^2) memory: for small scenes, tests and `formfactors --matrix`.
+// The patch-to-patch matrix the links stand for: column j is the irradiance (Hierarchy::
+// irradiance, slopes included) from radiosity 1 on patch j alone, so F B is what the solve
+// gathers; the estimate of F_ij sums each link p <- q over patch i under p and j under q as
+// error A_j / A_q. O(N^2) memory and N gathers: small scenes, tests, `formfactors --matrix`.
 FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g);
 
 // Memory held by the nodes, links and their index.
