@@ -70,6 +70,15 @@ struct Sample {
     double u, v;  // where in the node, each in [-1, 1] along s and t
 };
 
+// The unoccluded kernel cos_x cos_y / (pi r^2) per unit area of both samples, and the segment
+// e = y - x; 0 when the two do not face each other.
+double facing_kernel(const Sample& x, const Sample& y, Vec3* e) {
+    *e = y.x - x.x;
+    const double l2 = glm::dot(*e, *e);
+    const double cx = glm::dot(x.n, *e), cy = -glm::dot(y.n, *e);
+    return cx > 0.0 && cy > 0.0 && l2 > 0.0 ? cx * cy / (kPi * l2 * l2) : 0.0;
+}
+
 // A weighted least-squares plane through values F_a at the samples: F ~ mean + gs (u - u_mean)
 // + gt (v - v_mean) (u and v fitted separately: on a product Gauss grid they are nearly
 // uncorrelated), and the spread of what the plane leaves.
@@ -246,12 +255,10 @@ private:
         double g = 0.0;
         for (std::size_t a = 0; a < mm; ++a)
             for (std::size_t b = 0; b < mm; ++b) {
-                const Vec3 e = ys[b].x - xs[a].x;
-                const double l2 = glm::dot(e, e);
-                const double cx = glm::dot(xs[a].n, e), cy = -glm::dot(ys[b].n, e);
-                if (!(cx > 0.0 && cy > 0.0 && l2 > 0.0) || guard.blocked(xs[a].x, e, 1e-9, 1.0 - 1e-9, tests))
-                    continue;
-                g += xs[a].w * ys[b].w * cx * cy / (kPi * l2 * l2);
+                Vec3 e;
+                const double k = facing_kernel(xs[a], ys[b], &e);
+                if (k > 0.0 && !guard.blocked(xs[a].x, e, 1e-9, 1.0 - 1e-9, tests))
+                    g += xs[a].w * ys[b].w * k;
             }
         return g;
     }
@@ -361,14 +368,12 @@ private:
         std::size_t away = 0;
         for (std::size_t a = 0; a < mm; ++a)
             for (std::size_t b = 0; b < mm; ++b) {
-                const Vec3 e = ys[b].x - xs[a].x;
-                const double l2 = glm::dot(e, e);
-                const double cx = glm::dot(xs[a].n, e), cy = -glm::dot(ys[b].n, e);
-                if (!(cx > 0.0 && cy > 0.0 && l2 > 0.0)) {
+                Vec3 e;
+                const double k = facing_kernel(xs[a], ys[b], &e);
+                if (!(k > 0.0)) {
                     ++away;
                     continue;
                 }
-                const double k = cx * cy / (kPi * l2 * l2);
                 open_q[a] += ys[b].w * k;
                 open_p[b] += xs[a].w * k;
                 if (guard.blocked(xs[a].x, e, 1e-9, 1.0 - 1e-9, &tests)) continue;
@@ -423,10 +428,10 @@ private:
             return;
         }
         const Coupling c = sample(p, q);
-        // The error of p's gather over the link, per unit of radiosity: the receiver's spread
-        // (none when p is one patch) and the source's, F(y -> p) per unit area of p over q.
-        // Each side's plane carries its slopes (the receiver's, and the source's against its
-        // radiosity slopes); what the planes leave is the estimate.
+        // The error of p's gather over the link, per unit of radiosity: each side's plane carries
+        // its slopes (the receiver's, and the source's against its radiosity slopes), so what the
+        // planes leave is the estimate: the receiver's residual (none when p is one patch), the
+        // source's per unit area of p (none when q is one patch), and the quadrature's.
         const double rp = a.leaf() ? 0.0 : c.fit_p.residual_spread;
         const double rq = b.leaf() ? 0.0 : c.fit_q.residual_spread;
         const double e_pq = rp + (rq * b.area + c.quadrature) / a.area;

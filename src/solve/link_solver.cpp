@@ -23,8 +23,6 @@ std::vector<Rgb> pull_max(const Hierarchy& h, const std::vector<Rgb>& B) {
 
 }  // namespace
 
-std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B) { return h.irradiance(B); }
-
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B) {
     std::vector<double> area;
     area.reserve(B.size());

@@ -31,9 +31,6 @@ struct LinkSolution {
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options = {}, const std::vector<Rgb>* start = nullptr);
 
-// The irradiance H_i = sum over patch i's links (its own and its ancestors') of f B_source.
-std::vector<Rgb> link_irradiance(const Hierarchy& h, const std::vector<Rgb>& B);
-
 // Residual ||B - E - rho H|| / ||E|| and energy balance, as diagnose_solution does for a matrix.
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B);
 
