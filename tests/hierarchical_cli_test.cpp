@@ -1,6 +1,7 @@
 // The hierarchical method end to end through the command line: a still over the links against
 // the dense path's, the expanded matrix against the dense matrix, and the refusals (no steady
 // state, sequences, a matrix too large to expand).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_run.h"
@@ -38,6 +40,19 @@ std::vector<double> npy_values(const fs::path& p) {
     std::vector<double> v((b.size() - start) / sizeof(double));
     std::memcpy(v.data(), b.data() + start, v.size() * sizeof(double));
     return v;
+}
+// The largest pixel value of image a, and the largest difference between a and b (infinite
+// when their sizes differ).
+std::pair<float, float> image_difference(const fs::path& a_path, const fs::path& b_path) {
+    const Image a = media::read_image(a_path.string());
+    const Image b = media::read_image(b_path.string());
+    if (a.rgb.size() != b.rgb.size()) return {0.0f, INFINITY};
+    float top = 0.0f, diff = 0.0f;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+        top = std::max(top, a.rgb[i]);
+        diff = std::max(diff, std::abs(a.rgb[i] - b.rgb[i]));
+    }
+    return {top, diff};
 }
 }  // namespace
 
@@ -94,14 +109,7 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     EXPECT_LT(j["energy_balance_error"].get<double>(), 1e-6);
     EXPECT_TRUE(j["radiosity_error_bound"].is_null());
     for (const auto& e : j["radiosity_error_estimate"]) EXPECT_LT(e.get<double>(), 1e-4);
-    const Image a = media::read_image((d / "dense.exr").string());
-    const Image b = media::read_image((d / "links.exr").string());
-    ASSERT_EQ(a.rgb.size(), b.rgb.size());
-    float top = 0.0f, diff = 0.0f;
-    for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-        top = std::max(top, a.rgb[i]);
-        diff = std::max(diff, std::abs(a.rgb[i] - b.rgb[i]));
-    }
+    const auto [top, diff] = image_difference(d / "dense.exr", d / "links.exr");
     EXPECT_GT(top, 0.1f);
     EXPECT_LE(diff, 1e-6f * top);
     fs::remove_all(d);
@@ -125,6 +133,102 @@ TEST(HierarchicalCli, ExpandedMatrixIsTheDenseMatrix) {
     fs::remove_all(d);
 }
 
+// The links are cached like the matrix: the next run loads them (status hit, nothing built) and
+// writes the same radiosities byte for byte; `cache list`, `verify` and `clear` know the file.
+TEST(HierarchicalCli, CachedLinksServeTheNextRun) {
+    const fs::path d = fresh_dir("radiosa_hier_cache");
+    const std::string cache = (d / "cache").string();
+    const auto render = [&](const std::string& tag) {
+        const CliRun r =
+            run({"render", kScene, "-c", kCamA, "-o", (d / (tag + ".png")).string(), "--width", "32",
+                 "--height", "24", "--ff-method", "hierarchical", "--cache-dir", cache, "--radiosities",
+                 (d / (tag + ".csv")).string(), "--report", (d / (tag + ".json")).string(), "-q"});
+        EXPECT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(r.err, "");
+        return read_json(d / (tag + ".json"));
+    };
+    const nlohmann::json cold = render("cold"), warm = render("warm");
+    EXPECT_EQ(cold["form_factor_cache"]["status"], "miss");
+    EXPECT_EQ(warm["form_factor_cache"]["status"], "hit");
+    EXPECT_EQ(warm["form_factor_cache"]["compute_s"], 0.0);
+    EXPECT_EQ(warm["hierarchy"]["links"], cold["hierarchy"]["links"]);
+    EXPECT_EQ(warm["closure_max_error"], cold["closure_max_error"]);
+    const std::string file = warm["form_factor_cache"]["file"];
+    EXPECT_EQ(fs::path(file).extension(), ".rhl");
+    const auto text = [](const fs::path& p) {
+        std::ifstream in(p);
+        return std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    };
+    EXPECT_EQ(text(d / "cold.csv"), text(d / "warm.csv"));
+    EXPECT_GT(text(d / "cold.csv").size(), 86u * 20u);
+    CliRun r = run({"cache", "list", "--cache-dir", cache});
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("0 matrix file(s), 1 link file(s)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("links  baranoski1991"), std::string::npos) << r.out;
+    r = run({"cache", "verify", "--cache-dir", cache});
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("ok   " + file), std::string::npos) << r.out;
+    r = run({"cache", "clear", "--cache-dir", cache});
+    EXPECT_NE(r.out.find("removed 1 file(s)"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(file));
+    fs::remove_all(d);
+}
+
+// A relighting sequence over links: every new light is a warm-started link solve (`iterated`),
+// fewer sweeps than the cold first frame, and every frame is the dense sequence's frame.
+TEST(HierarchicalCli, RelitSequenceIsWarmStartedOverLinks) {
+    const fs::path d = fresh_dir("radiosa_hier_sequence");
+    const fs::path seq = d / "dim.yaml";
+    std::ofstream(seq)
+        << "scene: " << kScene
+        << "\nfps: 4\nduration_s: 1\ncamera:\n  keys:\n    - {time_s: 0, distance: 6, theta_deg: 0, "
+           "phi_deg: 90, fov_deg: 50}\nevents:\n  - {time_s: [0, 1], surface: face3, emission: [1.2, "
+           "1.1, 1.0]}\n";
+    const auto render = [&](const std::string& tag, std::vector<std::string> extra) {
+        fs::create_directories(d / tag);
+        std::vector<std::string> args = {"render",
+                                         "-s",
+                                         seq.string(),
+                                         "-o",
+                                         (d / tag / "%02d.exr").string(),
+                                         "--report",
+                                         (d / (tag + ".json")).string(),
+                                         "--width",
+                                         "48",
+                                         "--height",
+                                         "32",
+                                         "--samples",
+                                         "1",
+                                         "-q"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const CliRun r = run(args);
+        EXPECT_EQ(r.code, 0) << r.err;
+        return read_json(d / (tag + ".json"));
+    };
+    const nlohmann::json dense = render("dense", {});
+    const nlohmann::json links = render("links", {"--ff-method", "hierarchical", "--ff-tolerance", "1e-5"});
+    EXPECT_EQ(links["solve"]["method"], "links");
+    ASSERT_EQ(links["frames"].size(), 4u);
+    const long long cold = links["frames"][0]["sweeps"];
+    EXPECT_GT(cold, 10);
+    for (std::size_t f = 0; f < 4; ++f) {
+        const nlohmann::json& fr = links["frames"][f];
+        EXPECT_EQ(fr["solve"], "iterated") << f;
+        if (f > 0) {
+            EXPECT_LT(fr["sweeps"].get<long long>(), cold) << f;
+        }
+        EXPECT_EQ(fr["entries_total"], links["hierarchy"]["links"]);
+        const std::string name = fmt::format("{:02d}.exr", f);
+        const auto [top, diff] = image_difference(d / "dense" / name, d / "links" / name);
+        EXPECT_GT(top, 0.1f);
+        EXPECT_LE(diff, 1e-6f * top) << f;
+    }
+    for (const auto& e : links["radiosity_error_estimate"]) EXPECT_LT(e.get<double>(), 1e-4);
+    EXPECT_LT(links["solve"]["energy_balance_error"].get<double>(), 1e-6);
+    EXPECT_TRUE(dense["radiosity_error_estimate"].is_null());
+    fs::remove_all(d);
+}
+
 TEST(HierarchicalCli, RefusesWhatItCannotDo) {
     const fs::path d = fresh_dir("radiosa_hier_refusals");
     // No steady state: the same message as the dense path's, before any sweep.
@@ -141,12 +245,16 @@ TEST(HierarchicalCli, RefusesWhatItCannotDo) {
                          "absorbed, so radiosity grows without bound and there is no steady state (make some "
                          "reflectance < 1, or the scene open)\n");
     EXPECT_FALSE(fs::exists(d / "x.png"));
-    // Sequences need the dense path in this version.
-    r = run({"render", kScene, "-s", RADIOSA_SOURCE_DIR "/cameras/baranoski1991-abc.yaml", "-o",
-             (d / "x.mp4").string(), "--ff-method", "hierarchical"});
+    // Moving surfaces need the dense path's incremental update in this version.
+    const fs::path moving = d / "moving.yaml";
+    std::ofstream(moving)
+        << "scene: " << kScene
+        << "\nfps: 2\nduration_s: 1\ncamera:\n  keys:\n    - {time_s: 0, distance: 6, theta_deg: 0, "
+           "phi_deg: 90, fov_deg: 50}\nevents:\n  - {time_s: [0, 1], surface: sphere, translate: [0, "
+           "0.1, 0]}\n";
+    r = run({"render", "-s", moving.string(), "-o", (d / "x.mp4").string(), "--ff-method", "hierarchical"});
     EXPECT_EQ(r.code, 1);
-    EXPECT_NE(r.err.find("hierarchical form factors render stills in this version"), std::string::npos)
-        << r.err;
+    EXPECT_NE(r.err.find("hierarchical links are not updated for motion"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "x.mp4"));
     fs::remove_all(d);
 }

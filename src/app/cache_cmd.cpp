@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cache/cache_file.h"
+#include "cache/link_file.h"
 #include "util/error.h"
 #include "util/text.h"
 
@@ -20,10 +21,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Kind { Matrix, Leftover, Other };
+enum class Kind { Matrix, Links, Leftover, Other };
 
-// "<32 hex>.rff" is a cache file; "<32 hex>.tmp<pid>-<8 hex>.rff" a temporary left by a killed
-// run; "<32 hex>.lock" a lock file.
+// "<32 hex>.rff" is a matrix file, "<32 hex>.rhl" a file of hierarchical links;
+// "<32 hex>.tmp<pid>-<8 hex>.rff" (or .rhl) a temporary left by a killed run; "<32 hex>.lock" a
+// lock file.
 Kind classify(const fs::path& p) {
     const std::string name = p.filename().string();
     auto all_of = [](std::string_view s, auto pred) {
@@ -33,8 +35,9 @@ Kind classify(const fs::path& p) {
     if (name.size() < 32 || !all_of(std::string_view(name).substr(0, 32), hex)) return Kind::Other;
     const std::string_view rest = std::string_view(name).substr(32);
     if (rest == ".rff") return Kind::Matrix;
+    if (rest == ".rhl") return Kind::Links;
     if (rest == ".lock") return Kind::Leftover;
-    if (rest.starts_with(".tmp") && rest.ends_with(".rff") && rest.size() > 8 &&
+    if (rest.starts_with(".tmp") && (rest.ends_with(".rff") || rest.ends_with(".rhl")) && rest.size() > 8 &&
         all_of(rest.substr(4, rest.size() - 8),
                [&](unsigned char c) { return std::isdigit(c) != 0 || c == '-' || hex(c); }))
         return Kind::Leftover;
@@ -50,15 +53,17 @@ void check_cache_dir(const fs::path& dir) {
                     ": the cache path is not a directory (give --cache-dir a directory)");
 }
 
-// Entries of `kind` by name, whatever their file type (never following a link).
-std::vector<fs::path> entries(const fs::path& dir, Kind kind) {
+// Entries of the kinds given, by name, whatever their file type (never following a link).
+std::vector<fs::path> entries(const fs::path& dir, std::initializer_list<Kind> kinds) {
     std::vector<fs::path> v;
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(dir, ec))
-        if (classify(e.path()) == kind) v.push_back(e.path());
+        if (std::find(kinds.begin(), kinds.end(), classify(e.path())) != kinds.end()) v.push_back(e.path());
     std::sort(v.begin(), v.end());
     return v;
 }
+
+bool is_links(const fs::path& p) { return classify(p) == Kind::Links; }
 
 bool is_regular(const fs::path& p) {
     std::error_code ec;
@@ -86,17 +91,21 @@ std::string human_age(const fs::path& p) {
 
 void cache_list(const fs::path& dir, std::ostream& out) {
     check_cache_dir(dir);
-    const auto files = entries(dir, Kind::Matrix);
-    out << "cache " << printable(dir.string()) << ": " << files.size() << " matrix file(s)\n";
+    const auto files = entries(dir, {Kind::Matrix, Kind::Links});
+    const auto links = std::count_if(files.begin(), files.end(), is_links);
+    out << "cache " << printable(dir.string()) << ": " << files.size() - links << " matrix file(s), " << links
+        << " link file(s)\n";
     if (files.empty()) return;
-    out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", "key", "scene", "patches", "size", "age");
+    out << fmt::format("{:<32}  {:<6} {:<24} {:>8} {:>10} {:>9}\n", "key", "kind", "scene", "patches", "size",
+                       "age");
     for (const auto& f : files) {
         std::error_code ec;
         const std::string size = is_regular(f) ? human_size(fs::file_size(f, ec)) : "-";
         try {
-            const CacheFileInfo info = read_cache_info(f);
-            out << fmt::format("{:<32}  {:<24} {:>8} {:>10} {:>9}\n", f.stem().string(),
-                               printable(info.scene_name), info.patches, size, human_age(f));
+            const CacheFileInfo info = is_links(f) ? read_link_info(f) : read_cache_info(f);
+            out << fmt::format("{:<32}  {:<6} {:<24} {:>8} {:>10} {:>9}\n", f.stem().string(),
+                               is_links(f) ? "links" : "matrix", printable(info.scene_name), info.patches,
+                               size, human_age(f));
         } catch (const CacheFileError& e) {
             out << fmt::format("{:<32}  unreadable: {}\n", f.stem().string(), printable(e.what()));
         }
@@ -105,24 +114,25 @@ void cache_list(const fs::path& dir, std::ostream& out) {
 
 bool cache_verify(const fs::path& dir, std::ostream& out) {
     check_cache_dir(dir);
-    const auto files = entries(dir, Kind::Matrix);
+    const auto files = entries(dir, {Kind::Matrix, Kind::Links});
     int bad = 0;
     for (const auto& f : files) {
         const std::string name = printable(f.string());
         try {
-            const CacheFileInfo info = verify_cache_file(f);
+            const CacheFileInfo info = is_links(f) ? verify_link_file(f) : verify_cache_file(f);
             if (info.key.hex() != f.stem().string())
                 throw CacheFileError("holds key " + info.key.hex() + ", which does not match its file name");
             out << "ok   " << name << " (" << printable(info.scene_name) << ", " << info.patches
-                << " patches, " << info.layout << (info.compression == "zstd" ? ", zstd" : "") << ")\n";
+                << " patches, " << (is_links(f) ? std::to_string(info.links) + " " : "") << info.layout
+                << (info.compression == "zstd" ? ", zstd" : "") << ")\n";
         } catch (const CacheFileError& e) {
             ++bad;
             out << "BAD  " << name << ": " << printable(e.what()) << "\n";
         }
     }
-    for (const auto& f : entries(dir, Kind::Other))
+    for (const auto& f : entries(dir, {Kind::Other}))
         out << "skip " << printable(f.string()) << ": not a cache file name (not checked)\n";
-    const auto leftovers = entries(dir, Kind::Leftover);
+    const auto leftovers = entries(dir, {Kind::Leftover});
     out << files.size() << " file(s) checked, " << bad << " bad";
     if (!leftovers.empty())
         out << "; " << leftovers.size() << " lock or temporary file(s) ('radiosa cache clear' removes them)";
@@ -134,15 +144,14 @@ void cache_clear(const fs::path& dir, std::ostream& out) {
     check_cache_dir(dir);
     std::uintmax_t bytes = 0;
     int count = 0;
-    for (Kind k : {Kind::Matrix, Kind::Leftover})
-        for (const auto& f : entries(dir, k)) {
-            std::error_code ec;
-            const std::uintmax_t size = fs::file_size(f, ec);
-            if (fs::remove(f, ec)) {
-                ++count;
-                bytes += ec ? 0 : size;
-            }
+    for (const auto& f : entries(dir, {Kind::Matrix, Kind::Links, Kind::Leftover})) {
+        std::error_code ec;
+        const std::uintmax_t size = fs::file_size(f, ec);
+        if (fs::remove(f, ec)) {
+            ++count;
+            bytes += ec ? 0 : size;
         }
+    }
     out << "removed " << count << " file(s), " << human_size(bytes) << ", from " << printable(dir.string())
         << "\n";
 }

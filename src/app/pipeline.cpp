@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/report_json.h"
+#include "cache/link_file.h"
 #include "distribute/cluster.h"
 #include "solve/solver.h"
 #include "surfaces/registry.h"
@@ -61,21 +62,17 @@ void meet_solve_target(Prepared* p, double target, const FormFactorRequest& requ
     warn(w);
 }
 
-// The hierarchical method: links instead of the matrix (not cached yet).
-void build_links(Prepared* p, const FormFactorRequest& request) {
+// The hierarchical method: links instead of the matrix, through the cache like it.
+void build_links(Prepared* p, const FormFactorRequest& request, const WarningSink& warn) {
     if (request.solve_tolerance || p->scene.solve.tolerance)
         throw Error(p->scene.solve.tolerance ? p->scene.solve_loc : FileLoc{p->scene.file, 0, 0},
                     "a solve tolerance needs the dense form factors (their estimates bound the error); "
                     "drop form_factors: method: hierarchical (or --ff-method hierarchical)");
-    HierarchyOptions ho;
-    ho.tolerance = p->options.link_tolerance;
-    p->hierarchy = build_hierarchy(p->geometry, ho, p->options);
+    p->hierarchy = obtain_hierarchy(p->scene, p->geometry, p->options, request.cache, warn, &p->cache);
     p->ff.options = p->options;
     p->ff.stats = p->hierarchy->leaf_stats;
     p->ff.stats.seconds = p->hierarchy->stats.seconds;
     for (int i = 0; i < p->geometry.patch_count(); ++i) p->ff.area.push_back(p->geometry.patch(i).area);
-    p->cache.status = CacheStatus::Off;
-    p->cache.reason = "hierarchical links are not cached in this version";
 }
 
 }  // namespace
@@ -101,7 +98,7 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     p.options = request.options_for(p.scene);
     clock = Stopwatch();
     if (p.options.method == FormFactorMethod::Hierarchical) {
-        build_links(&p, request);
+        build_links(&p, request, warn);
     } else {
         p.ff = obtain_form_factors(p.scene, p.geometry, p.options, request.cache, warn, &p.cache);
         if (const auto target = request.solve_tolerance ? request.solve_tolerance : p.scene.solve.tolerance)

@@ -20,6 +20,7 @@
 #include "render/shading.h"
 #include "scene/scene.h"
 #include "schedule/sequence.h"
+#include "solve/link_solver.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
 #include "util/stopwatch.h"
@@ -170,7 +171,7 @@ public:
         for (std::size_t f = 0; f < m_r->frames.size(); ++f) {
             FrameRecord& rec = m_r->frames[f];
             enter(rec);
-            solve(rec, *m_solvers[static_cast<std::size_t>(rec.plan.reflectance_set)]);
+            solve(rec);
             render(rec);
             deliver(f, encoder, kept);
             leave(static_cast<int>(f));
@@ -183,7 +184,7 @@ public:
     void run_across(Cluster& cluster, EncoderThread& encoder, SequenceKept* kept) {
         for (FrameRecord& rec : m_r->frames) {
             enter(rec);
-            solve(rec, *m_solvers[static_cast<std::size_t>(rec.plan.reflectance_set)]);
+            solve(rec);
         }
         FrameOrder order{m_p.scene.file, m_job.threads, m_r->render, {}, {}};
         for (std::size_t s = 0; s < m_solutions.size(); ++s)
@@ -244,6 +245,15 @@ private:
         build_solvers(g);
     }
     void build_solvers(int g) {
+        if (m_p.hierarchy) {
+            // Over links nothing is factorised; a system with no steady state is refused up front.
+            for (const auto& fp : m_plan.frames)
+                if (fp.solve != SolveAction::Reused)
+                    refuse_lossless(m_plan.reflectances[static_cast<std::size_t>(fp.reflectance_set)],
+                                    m_plan.solutions[static_cast<std::size_t>(fp.solution)].E,
+                                    m_p.scene.closed, m_job.sequence_path);
+            return;
+        }
         for (std::size_t rs = 0; rs < m_plan.reflectances.size(); ++rs) {
             if (m_plan.reflectance_geometry[rs] != g || m_solvers[rs]) continue;
             m_solvers[rs] =
@@ -272,31 +282,29 @@ private:
         m_current = -1;
     }
 
-    void solve(FrameRecord& rec, const RadiositySolver& solver) {
+    // The solution it starts from: the last answer for the same reflectance (nearby lights,
+    // nearby radiosities), or else the last answer of all (the previous frame's, before a
+    // surface moved); none for a direct solve.
+    const std::vector<Rgb>* warm_start(const FramePlan& fp) const {
+        const int warm =
+            m_last_of_set[fp.reflectance_set] >= 0 ? m_last_of_set[fp.reflectance_set] : m_last_solved;
+        return fp.solve == SolveAction::Iterated && warm >= 0 ? &m_solutions[warm] : nullptr;
+    }
+    void solve(FrameRecord& rec) {
         const FramePlan& fp = rec.plan;
         if (fp.solve == SolveAction::Reused) return;
+        if (m_p.hierarchy) return solve_links_frame(rec);
+        const RadiositySolver& solver = *m_solvers[static_cast<std::size_t>(fp.reflectance_set)];
         const Stopwatch clock;
         // The factorisation ran in build_solvers; it is charged to the frame that first uses it.
         if (fp.solve == SolveAction::Factorised) rec.solve_s += solver.factorise_seconds();
-        // An iterative solver starts from the last answer for the same reflectance (nearby
-        // lights, nearby radiosities), or else the last answer of all (the previous frame's,
-        // before a surface moved).
-        const int warm =
-            m_last_of_set[fp.reflectance_set] >= 0 ? m_last_of_set[fp.reflectance_set] : m_last_solved;
-        const std::vector<Rgb>* start =
-            fp.solve == SolveAction::Iterated && warm >= 0 ? &m_solutions[warm] : nullptr;
-        m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E, start);
+        m_solutions[fp.solution] = solver.solve(m_plan.solutions[fp.solution].E, warm_start(fp));
         m_last_of_set[fp.reflectance_set] = fp.solution;
         m_last_solved = fp.solution;
         rec.sweeps = solver.last_iterations();
         m_r->channel_solves += solver.last_channel_solves();
         rec.solve_s += clock.seconds();
-        m_r->sensor_irradiance.resize(m_plan.solutions.size());
-        std::vector<Rgb>& readings = m_r->sensor_irradiance[fp.solution];
-        const std::vector<SensorFactors>& sensors = *state().sensors;
-        readings.assign(sensors.size(), Rgb(0.0));
-        for (std::size_t k = 0; k < sensors.size(); ++k)
-            readings[k] = sensor_irradiance(sensors[k], m_solutions[fp.solution]);
+        read_sensors(fp);
         // Diagnostics, not timed as solving.
         const FormFactors& ff = *state().ff;
         const SolveDiagnostics d = diagnose_solution(
@@ -314,6 +322,38 @@ private:
         }
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
+    }
+    void read_sensors(const FramePlan& fp) {
+        m_r->sensor_irradiance.resize(m_plan.solutions.size());
+        std::vector<Rgb>& readings = m_r->sensor_irradiance[fp.solution];
+        const std::vector<SensorFactors>& sensors = *state().sensors;
+        readings.assign(sensors.size(), Rgb(0.0));
+        for (std::size_t k = 0; k < sensors.size(); ++k)
+            readings[k] = sensor_irradiance(sensors[k], m_solutions[fp.solution]);
+    }
+    // Over the hierarchy's links: sweeps of gather, push and pull, warm-started from the last
+    // answer (every new state is Iterated), then the diagnostics and the error estimate.
+    void solve_links_frame(FrameRecord& rec) {
+        const FramePlan& fp = rec.plan;
+        const Stopwatch clock;
+        const Materials mat{m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E};
+        LinkSolution s = solve_links(*m_p.hierarchy, mat.rho, mat.E, {}, warm_start(fp));
+        m_solutions[fp.solution] = std::move(s.B);
+        m_last_of_set[fp.reflectance_set] = fp.solution;
+        m_last_solved = fp.solution;
+        rec.sweeps = s.sweeps;
+        m_r->channel_solves += 3;
+        rec.solve_s += clock.seconds();
+        read_sensors(fp);
+        // Diagnostics, not timed as solving.
+        const SolveDiagnostics d = diagnose_links(*m_p.hierarchy, mat, m_solutions[fp.solution]);
+        m_r->residual = std::max(m_r->residual, d.residual);
+        if (m_p.scene.closed)
+            m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
+        const Rgb e = link_error_estimate(*m_p.hierarchy, mat, m_solutions[fp.solution]);
+        if (!m_r->radiosity_error_estimate) m_r->radiosity_error_estimate = Rgb(0.0);
+        for (int c = 0; c < 3; ++c)
+            (*m_r->radiosity_error_estimate)[c] = std::max((*m_r->radiosity_error_estimate)[c], e[c]);
     }
     // Frame f (m_image) to the test hook, the outputs and the progress bar.
     void deliver(std::size_t f, EncoderThread& encoder, SequenceKept* kept) {
@@ -450,17 +490,20 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     std::optional<Sequence> seq;
     r.prep =
         std::make_unique<Prepared>(prepare(r.scene_path, job.form_factors, job.warn, [&](const Prepared& p) {
-            if (job.form_factors.options_for(p.scene).method == FormFactorMethod::Hierarchical)
-                throw Error(FileLoc{r.scene_path, 0, 0},
-                            "hierarchical form factors render stills in this version, not sequences; "
-                            "run the sequence with --ff-method adaptive");
             seq = read_sequence(job, p.scene, &r.render);
+            if (seq->has_motion() &&
+                job.form_factors.options_for(p.scene).method == FormFactorMethod::Hierarchical)
+                throw Error(FileLoc{job.sequence_path, 0, 0},
+                            "the sequence moves surfaces, and hierarchical links are not updated for motion "
+                            "in this version; run it with --ff-method adaptive");
         }));
     const Prepared& p = *r.prep;
     r.solver = job.solver;
     if (!job.solver_given && seq->has_motion() && p.geometry.patch_count() > kMovingIterativeFromPatches)
         r.solver = SolverMethod::GaussSeidel;
-    const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry, is_iterative(r.solver));
+    // Over links every solve is an iteration, warm-started from the last.
+    const Plan plan =
+        plan_sequence(*seq, patch_materials(p.scene), p.geometry, is_iterative(r.solver) || p.hierarchy);
     r.fps = seq->fps;
     r.frames.resize(plan.frames.size());
     for (std::size_t f = 0; f < r.frames.size(); ++f) r.frames[f].plan = plan.frames[f];
@@ -469,7 +512,8 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     r.frames[0].form_factors = p.cache.status == CacheStatus::Hit ? "cached" : "computed";
     if (p.cache.status != CacheStatus::Hit)
         r.frames[0].entries_recomputed =
-            static_cast<long long>(p.geometry.patch_count()) * p.geometry.patch_count();
+            p.hierarchy ? p.hierarchy->stats.links
+                        : static_cast<long long>(p.geometry.patch_count()) * p.geometry.patch_count();
     r.geometry_states = static_cast<int>(plan.geometries.size());
     r.moves = plan.moves();
 
@@ -529,8 +573,10 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
         r.prep->options, r.prep->ff.stats,
         {r.factorisations, 3 * r.reflectance_sets, r.channel_solves, 3 * r.substitutions, false});
     j["solve"] = solve_json(r.solver, r.stability, r.residual);
+    if (r.prep->hierarchy) j["solve"]["method"] = "links", j["solve"]["spectral_radius"] = nullptr;
     j["solve"]["energy_balance_error"] = r.prep->scene.closed ? json(r.energy_balance_error) : json(nullptr);
     j["radiosity_error_bound"] = error_bound_json(r.radiosity_error_bound);
+    j["radiosity_error_estimate"] = error_bound_json(r.radiosity_error_estimate);
     j["totals"] = {{"load_s", r.load_s},
                    {"form_factors_s", r.form_factors_s},
                    {"solve_s", r.solve_s},
@@ -543,8 +589,11 @@ std::string sequence_report_json(const SequenceJob& job, const SequenceReport& r
                    {"channel_solves", r.channel_solves},
                    {"renders", r.renders},
                    {"copies", r.copies}};
+    // What a full computation makes: the matrix's entries, or the hierarchy's links.
     const long long entries_total =
-        static_cast<long long>(r.prep->geometry.patch_count()) * r.prep->geometry.patch_count();
+        r.prep->hierarchy
+            ? r.prep->hierarchy->stats.links
+            : static_cast<long long>(r.prep->geometry.patch_count()) * r.prep->geometry.patch_count();
     j["motion"] = motion_json(r);
     json frames = json::array();
     for (const FrameRecord& f : r.frames) {
@@ -614,6 +663,14 @@ std::string sequence_summary(const SequenceJob& job, const SequenceReport& r) {
             "palette", r.palette.seconds, r.palette.colours, quantiser_name(job.quantiser),
             r.palette.psnr_median_cut_db, r.palette.psnr_popularity_db);
     s += error_bound_summary(r.radiosity_error_bound);
+    if (const auto& e = r.radiosity_error_estimate) {
+        int sweeps = 0;
+        for (const FrameRecord& f : r.frames) sweeps += f.sweeps;
+        s += fmt::format(
+            "  over links: {} sweeps in all, warm-started; radiosity error estimate max |B - B*| / max B: "
+            "r {:.1e}, g {:.1e}, b {:.1e}\n",
+            sweeps, e->r, e->g, e->b);
+    }
     for (const auto& o : job.outputs) s += "  wrote " + o + "\n";
     if (job.report_path) s += "  wrote " + *job.report_path + "\n";
     return s;

@@ -72,6 +72,9 @@ struct SequenceReport {
     // The worst radiosity error bound per channel over every solution (solver.h); empty when the
     // form factors carry no estimates.
     std::optional<Rgb> radiosity_error_bound;
+    // With hierarchical links: the worst estimate (not a bound) per channel over every solution
+    // (solve/link_solver.h); empty otherwise.
+    std::optional<Rgb> radiosity_error_estimate;
     std::vector<FrameRecord> frames;
     // Moving surfaces: the geometry states (1 without motion) and the worst closure over them.
     int geometry_states = 1;

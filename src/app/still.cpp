@@ -140,7 +140,7 @@ std::string still_report_json(const StillJob& job, const StillReport& r) {
     j["left_out"] =
         left_out_json(r.prep.options, r.prep.ff.stats, {r.factorisations, 3, r.channel_solves, 3, r.dark});
     json& solve = j["solve"] = solve_json(job.solver, r.stability, r.solve.residual);
-    if (r.prep.hierarchy) solve["method"] = "links";
+    if (r.prep.hierarchy) solve["method"] = "links", solve["spectral_radius"] = nullptr;  // not computed
     solve["skipped"] = r.dark ? json("no emission: the image is black") : json(nullptr);
     solve["factorisations"] = r.factorisations;
     solve["iterations"] = r.iterations;

@@ -1,6 +1,5 @@
 #include "cache/cache_file.h"
 
-#include <xxhash.h>
 #include <zstd.h>
 
 #include <cmath>
@@ -21,8 +20,6 @@ using namespace cache_format;
 
 namespace {
 
-std::uint64_t checksum(const std::uint8_t* data, std::size_t n) { return XXH3_64bits(data, n); }
-
 std::string hex_bytes(const std::uint8_t* p, std::size_t n) {
     static const char* digits = "0123456789abcdef";
     std::string s;
@@ -32,8 +29,6 @@ std::string hex_bytes(const std::uint8_t* p, std::size_t n) {
     }
     return s;
 }
-
-std::string capped_name(const std::string& s) { return s.size() <= kMaxName ? s : s.substr(0, kMaxName); }
 
 // The matrix section: CSR or dense, whichever is smaller, then the estimates.
 std::vector<std::uint8_t> matrix_section(const FormFactors& ff, bool* csr) {
@@ -73,21 +68,6 @@ void write_header(ByteWriter& w, const CacheKey& key, const std::string& scene_n
     w.u32(kElementFloat64);
 }
 
-void write_table(ByteWriter& w, const SceneGeometry& geometry, const FormFactors& ff) {
-    for (int k = 0; k < geometry.surface_count(); ++k) {
-        w.str(capped_name(geometry.surface_name(k)));
-        w.u32(static_cast<std::uint32_t>(geometry.ns(k)));
-        w.u32(static_cast<std::uint32_t>(geometry.nt(k)));
-    }
-    for (const Patch& p : geometry.patches()) {
-        w.u32(static_cast<std::uint32_t>(p.surface));
-        w.u32(static_cast<std::uint32_t>(p.is));
-        w.u32(static_cast<std::uint32_t>(p.it));
-        w.f64(p.area);
-    }
-    ff.stats.for_each_counter([&](const char*, long long v) { w.i64(v); });
-}
-
 }  // namespace
 
 std::string CacheKey::hex() const { return hex_bytes(bytes.data(), bytes.size()); }
@@ -110,23 +90,16 @@ CacheKey form_factor_key(const Scene& scene, const FormFactorOptions& options) {
         w.u32(static_cast<std::uint32_t>(s.ns));
         w.u32(static_cast<std::uint32_t>(s.nt));
     }
-    const XXH128_hash_t h = XXH3_128bits(w.bytes().data(), w.bytes().size());
-    XXH128_canonical_t canon;
-    XXH128_canonicalFromHash(&canon, h);
-    CacheKey key;
-    std::memcpy(key.bytes.data(), canon.digest, 16);
-    return key;
+    return hash_key(w.bytes());
 }
 
 void write_cache_file(const fs::path& path, const CacheKey& key, const std::string& scene_name, bool closed,
                       const SceneGeometry& geometry, const FormFactors& ff) {
     bool csr = false;
-    const std::vector<std::uint8_t> raw = matrix_section(ff, &csr);
-    std::vector<std::uint8_t> packed(ZSTD_compressBound(raw.size()));
-    const std::size_t psize = ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), 3);
-    const bool zstd = !ZSTD_isError(psize) && psize * 4 <= raw.size() * 3;
-    if (zstd) packed.resize(psize);
-    const std::vector<std::uint8_t>& section = zstd ? packed : raw;
+    std::vector<std::uint8_t> raw = matrix_section(ff, &csr);
+    const std::uint64_t raw_size = raw.size();
+    bool zstd = false;
+    const std::vector<std::uint8_t> section = pack_section(std::move(raw), &zstd);
 
     const bool adaptive = ff.options.method == FormFactorMethod::Adaptive;
     ByteWriter w;
@@ -139,16 +112,10 @@ void write_cache_file(const fs::path& path, const CacheKey& key, const std::stri
     w.u32(static_cast<std::uint32_t>(adaptive ? 0 : ff.options.gauss_points));
     w.f64(adaptive ? ff.options.tolerance : 0.0);
     w.u64(section.size());
-    w.u64(raw.size());
-    write_table(w, geometry, ff);
+    w.u64(raw_size);
+    write_table(w, geometry, ff.stats);
     w.raw(section.data(), section.size());
-    w.u64(checksum(w.bytes().data(), w.bytes().size()));
-
-    check_output_path(path);
-    AtomicFile file(path);
-    file.write_all(w.bytes().data(), w.bytes().size());
-    file.close_fd(true);
-    file.commit();
+    commit_file(path, w);
 }
 
 CacheFileInfo read_cache_info(const fs::path& path) {
@@ -159,10 +126,6 @@ CacheFileInfo read_cache_info(const fs::path& path) {
 }
 
 namespace {
-
-CacheFileError table_mismatch(const std::string& what) {
-    return CacheFileError("patch table does not match the scene: " + what);
-}
 
 // The header against the scene and the request: before anything else is read or allocated.
 void check_expectation(const Header& h, const CacheExpectation& expect) {
@@ -188,26 +151,6 @@ void check_expectation(const Header& h, const CacheExpectation& expect) {
     if (info.closed != expect.closed)
         throw CacheFileError(std::string("says the scene is ") + (info.closed ? "closed" : "open") +
                              "; this scene is " + (expect.closed ? "closed" : "open"));
-}
-
-void read_patch_table(ByteReader& in, const Header& h, const SceneGeometry& g, FormFactors* ff) {
-    for (std::size_t k = 0; k < h.info.surfaces; ++k) {
-        if (in.peek_u32() > kMaxName) throw CacheFileError("implausible surface name length");
-        in.str();  // the surface's name: for people, not checked
-        const std::uint32_t ns = in.u32(), nt = in.u32();
-        if (ns != static_cast<std::uint32_t>(g.ns(static_cast<int>(k))) ||
-            nt != static_cast<std::uint32_t>(g.nt(static_cast<int>(k))))
-            throw table_mismatch("surface " + std::to_string(k) + " is split differently");
-    }
-    for (std::size_t i = 0; i < h.info.patches; ++i) {
-        const std::uint32_t s = in.u32(), is = in.u32(), it = in.u32();
-        const double area = ff->area[i] = in.f64();
-        const Patch& p = g.patch(static_cast<int>(i));
-        if (static_cast<int>(s) != p.surface || static_cast<int>(is) != p.is ||
-            static_cast<int>(it) != p.it || !(std::abs(area - p.area) <= 1e-12 * p.area))
-            throw table_mismatch("patch " + std::to_string(i) + " differs");
-    }
-    ff->stats.for_each_counter([&](const char*, long long& v) { v = in.i64(); });
 }
 
 // The matrix section, decompressed into a buffer the header's (already bounded) size fixes.
@@ -259,18 +202,14 @@ FormFactors read_source(const Source& src, const CacheExpectation& expect, Cache
     check_expectation(h, expect);
     check_sizes(h, src.size());
     // Every size is now bounded by the file's and by the scene's matrix: read it all.
-    const std::vector<std::uint8_t> bytes = src.read_vector(0, static_cast<std::size_t>(src.size()));
-    const std::size_t body = bytes.size() - 8;
-    ByteReader trailer(bytes.data() + body, 8);
-    if (trailer.u64() != checksum(bytes.data(), body))
-        throw CacheFileError("checksum mismatch (the file is damaged or truncated)");
-    ByteReader in(bytes.data(), body);
+    const std::vector<std::uint8_t> bytes = read_checked(src);
+    ByteReader in(bytes.data(), bytes.size() - 8);
     in.take(h.length);
     FormFactors ff;
     ff.options = h.info.options;
     ff.F = DenseMatrix(static_cast<int>(h.info.patches));
     ff.area.resize(h.info.patches);
-    read_patch_table(in, h, *expect.geometry, &ff);
+    read_patch_table(in, h, *expect.geometry, &ff.area, &ff.stats);
     if (in.remaining() != h.stored)
         throw CacheFileError("matrix section is " + std::to_string(in.remaining()) + " bytes, header says " +
                              std::to_string(h.stored));

@@ -57,11 +57,12 @@ struct CacheFileInfo {
     std::string scene_name;
     std::uint64_t patches = 0;
     std::uint64_t surfaces = 0;
-    std::string layout;       // "dense" or "csr"
+    std::string layout;       // "dense" or "csr"; "links" for hierarchical links (link_file.h)
     std::string compression;  // "none" or "zstd"
     bool has_error_estimates = false;
     FormFactorOptions options;  // method, tolerance or gauss points, visibility
     bool closed = false;
+    std::uint64_t nodes = 0, links = 0;  // hierarchical links only
 };
 
 // A cache file that cannot be used; what() is the reason, one line.

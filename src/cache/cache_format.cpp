@@ -4,12 +4,17 @@
 #include <fmt/format.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <xxhash.h>
+#include <zstd.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 
+#include "geometry/scene_geometry.h"
 #include "scene/scene.h"
+#include "util/atomic_file.h"
+#include "util/error.h"
 
 namespace radiosa::cache_format {
 
@@ -160,14 +165,85 @@ void MemorySource::read(std::uint64_t offset, void* dst, std::size_t n) const {
 }
 
 Header read_source_header(const Source& src) {
-    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(src.size(), kHeadRead));
-    const std::vector<std::uint8_t> head = src.read_vector(0, n);
-    ByteReader in(head.data(), head.size());
-    try {
-        return read_header(in);
-    } catch (const ByteReader::Truncated&) {
-        throw CacheFileError("file is truncated (" + std::to_string(src.size()) + " bytes)");
+    return parse_head(src, [](ByteReader& in) { return read_header(in); });
+}
+
+std::vector<std::uint8_t> read_checked(const Source& src) {
+    std::vector<std::uint8_t> bytes = src.read_vector(0, static_cast<std::size_t>(src.size()));
+    const std::size_t body = bytes.size() - 8;
+    ByteReader trailer(bytes.data() + body, 8);
+    if (trailer.u64() != XXH3_64bits(bytes.data(), body))
+        throw CacheFileError("checksum mismatch (the file is damaged or truncated)");
+    return bytes;
+}
+
+CacheKey hash_key(const std::vector<std::uint8_t>& bytes) {
+    const XXH128_hash_t h = XXH3_128bits(bytes.data(), bytes.size());
+    XXH128_canonical_t canon;
+    XXH128_canonicalFromHash(&canon, h);
+    CacheKey key;
+    std::memcpy(key.bytes.data(), canon.digest, 16);
+    return key;
+}
+
+std::vector<std::uint8_t> pack_section(std::vector<std::uint8_t> raw, bool* zstd) {
+    std::vector<std::uint8_t> packed(ZSTD_compressBound(raw.size()));
+    const std::size_t psize = ZSTD_compress(packed.data(), packed.size(), raw.data(), raw.size(), 3);
+    *zstd = !ZSTD_isError(psize) && psize * 4 <= raw.size() * 3;
+    if (!*zstd) return raw;
+    packed.resize(psize);
+    return packed;
+}
+
+void commit_file(const std::filesystem::path& path, ByteWriter& w) {
+    w.u64(XXH3_64bits(w.bytes().data(), w.bytes().size()));
+    check_output_path(path);
+    AtomicFile file(path);
+    file.write_all(w.bytes().data(), w.bytes().size());
+    file.close_fd(true);
+    file.commit();
+}
+
+std::string capped_name(const std::string& s) { return s.size() <= kMaxName ? s : s.substr(0, kMaxName); }
+
+CacheFileError table_mismatch(const std::string& what) {
+    return CacheFileError("patch table does not match the scene: " + what);
+}
+
+void write_table(ByteWriter& w, const SceneGeometry& geometry, const FormFactorStats& stats) {
+    for (int k = 0; k < geometry.surface_count(); ++k) {
+        w.str(capped_name(geometry.surface_name(k)));
+        w.u32(static_cast<std::uint32_t>(geometry.ns(k)));
+        w.u32(static_cast<std::uint32_t>(geometry.nt(k)));
     }
+    for (const Patch& p : geometry.patches()) {
+        w.u32(static_cast<std::uint32_t>(p.surface));
+        w.u32(static_cast<std::uint32_t>(p.is));
+        w.u32(static_cast<std::uint32_t>(p.it));
+        w.f64(p.area);
+    }
+    stats.for_each_counter([&](const char*, long long v) { w.i64(v); });
+}
+
+void read_patch_table(ByteReader& in, const Header& h, const SceneGeometry& g, std::vector<double>* areas,
+                      FormFactorStats* stats) {
+    for (std::size_t k = 0; k < h.info.surfaces; ++k) {
+        if (in.peek_u32() > kMaxName) throw CacheFileError("implausible surface name length");
+        in.str();  // the surface's name: for people, not checked
+        const std::uint32_t ns = in.u32(), nt = in.u32();
+        if (ns != static_cast<std::uint32_t>(g.ns(static_cast<int>(k))) ||
+            nt != static_cast<std::uint32_t>(g.nt(static_cast<int>(k))))
+            throw table_mismatch("surface " + std::to_string(k) + " is split differently");
+    }
+    for (std::size_t i = 0; i < h.info.patches; ++i) {
+        const std::uint32_t s = in.u32(), is = in.u32(), it = in.u32();
+        const double area = (*areas)[i] = in.f64();
+        const Patch& p = g.patch(static_cast<int>(i));
+        if (static_cast<int>(s) != p.surface || static_cast<int>(is) != p.is ||
+            static_cast<int>(it) != p.it || !(std::abs(area - p.area) <= 1e-12 * p.area))
+            throw table_mismatch("patch " + std::to_string(i) + " differs");
+    }
+    stats->for_each_counter([&](const char*, long long& v) { v = in.i64(); });
 }
 
 void check_rows(const std::vector<double>& row_sum, const std::vector<double>& row_error,

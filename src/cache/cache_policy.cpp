@@ -10,10 +10,12 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <thread>
 
 #include "cache/cache_file.h"
+#include "cache/link_file.h"
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
@@ -125,114 +127,149 @@ private:
     std::unique_ptr<RemoveOnSignal> m_remove;  // a run ended by a signal releases it too
 };
 
-// One run's use of the cache for one matrix: what it loaded, computed and wrote, and why.
+// What is cached (the matrix, or the hierarchical links) and how to make, read and write it.
+template <class T>
+struct CacheJob {
+    const char* extension;  // of the file name: ".rff", ".rhl"
+    const char* what;       // in warnings: "form factors", "hierarchical links"
+    CacheKey key;
+    std::function<T()> compute;
+    std::function<T(const fs::path&)> load;  // throws CacheFileError
+    // The sense checks (CacheFileError) and the write (Error).
+    std::function<void(const fs::path&, const T&)> store;
+};
+
+// One run's use of the cache for one object: what it loaded, computed and wrote, and why.
+template <class T>
 class CacheRun {
 public:
-    CacheRun(const Scene& scene, const SceneGeometry& geometry, const FormFactorOptions& options,
-             const ComputeFormFactors& how, const WarningSink& warn)
-        : m_scene(scene), m_geometry(geometry), m_options(options), m_how(how), m_warn(warn) {}
+    CacheRun(const CacheJob<T>& job, const WarningSink& warn) : m_job(job), m_warn(warn) {}
 
     CacheOutcome o;
 
-    FormFactors compute() {
+    T compute() {
         const Stopwatch clock;
-        FormFactors ff =
-            m_how ? m_how(m_scene, m_geometry, m_options) : compute_form_factors(m_geometry, m_options);
+        T v = m_job.compute();
         o.compute_s = clock.seconds();
-        return ff;
+        return v;
     }
-    // The matrix when a file is there and passes every check; records why not otherwise.
-    std::optional<FormFactors> try_load(const fs::path& path, const CacheKey& key) {
+    // The object when a file is there and passes every check; records why not otherwise.
+    std::optional<T> try_load(const fs::path& path) {
         const Stopwatch clock;
         std::error_code ec;
         if (fs::symlink_status(path, ec).type() == fs::file_type::not_found) return std::nullopt;
         try {
-            FormFactors ff = read_cache_file(path, {key, &m_geometry, m_options, m_scene.closed});
+            T v = m_job.load(path);
             o.load_s += clock.seconds();
-            return ff;
+            return v;
         } catch (const CacheFileError& e) {
             o.load_s += clock.seconds();
             o.reason = e.what();
             return std::nullopt;
         }
     }
-    // Computes the matrix and writes its file, unless the fresh matrix would not pass the load
-    // checks itself (a scene declared closed that is not): then it is not stored, with a warning.
-    // An unwritable cache is a warning, not an error.
-    FormFactors compute_and_store(const fs::path& path, const CacheKey& key) {
+    // Computes the object and writes its file, unless it would not pass the load checks itself
+    // (a scene declared closed that is not): then it is not stored, with a warning. An
+    // unwritable cache is a warning, not an error.
+    T compute_and_store(const fs::path& path) {
         o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
-        FormFactors ff = compute();
+        T v = compute();
         const Stopwatch clock;
         try {
-            check_cache_matrix(ff, m_options, m_scene.closed);
-            write_cache_file(path, key, m_scene.name, m_scene.closed, m_geometry, ff);
+            m_job.store(path, v);
             o.written = true;
         } catch (const CacheFileError& e) {
-            m_warn(std::string("the computed form factors fail the cache's sense check (") + e.what() +
-                   "); they are used but not cached: is the scene really closed?");
+            m_warn(
+                fmt::format("the computed {} fail the cache's sense check ({}); they are used but not "
+                            "cached: is the scene really closed?",
+                            m_job.what, e.what()));
             if (o.reason.empty()) o.reason = std::string("not written: ") + e.what();
         } catch (const Error& e) {
-            m_warn(std::string("cannot write the form-factor cache: ") + e.what() +
-                   "; the run goes on without it");
+            m_warn(fmt::format("cannot write the {} cache: {}; the run goes on without it", m_job.what,
+                               e.what()));
             if (o.reason.empty()) o.reason = std::string("not written: ") + e.what();
         }
         o.write_s = clock.seconds();
-        return ff;
+        return v;
     }
     // Computes without storing: the cache directory cannot be made.
-    FormFactors compute_unstored(const fs::path& dir, const std::error_code& ec) {
+    T compute_unstored(const fs::path& dir, const std::error_code& ec) {
         o.status = o.reason.empty() ? CacheStatus::Miss : CacheStatus::Rebuilt;
         const std::string why = "cannot create cache directory " + dir.string() + ": " +
                                 (ec ? ec.message() : std::string("not a directory"));
-        m_warn(why + "; form factors are computed but not cached");
+        m_warn(fmt::format("{}; {} are computed but not cached", why, m_job.what));
         if (o.reason.empty()) o.reason = why;
         return compute();
     }
 
 private:
-    const Scene& m_scene;
-    const SceneGeometry& m_geometry;
-    const FormFactorOptions& m_options;
-    const ComputeFormFactors& m_how;
+    const CacheJob<T>& m_job;
     const WarningSink& m_warn;
 };
 
-FormFactors obtain(CacheRun& run, const Scene& scene, const FormFactorOptions& options,
-                   const CacheSettings& settings, const WarningSink& warn) {
-    if (!settings.enabled) return run.compute();
+fs::path cache_dir(const CacheSettings& settings) {
+    return settings.dir.empty() ? default_cache_dir() : settings.dir;
+}
+
+template <class T>
+T obtain(const CacheJob<T>& job, const FormFactorOptions& options, const CacheSettings& settings,
+         const WarningSink& warn, CacheOutcome* outcome) {
+    CacheRun<T> run(job, warn);
+    const auto done = [&](T v) {
+        if (outcome) *outcome = run.o;
+        return v;
+    };
+    if (!settings.enabled) return done(run.compute());
     if (!options.culling) {
         // A timing diagnostic: it must be computed to be timed, and in error-controlled mode
         // (no closed form without the proofs) its matrix is less accurate: never stored.
         run.o.reason = "--no-culling";
-        return run.compute();
+        return done(run.compute());
     }
-    const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
-    const CacheKey key = form_factor_key(scene, options);
-    const fs::path path = dir / (key.hex() + ".rff");
-    run.o.key = key.hex();
+    const fs::path dir = cache_dir(settings);
+    const fs::path path = dir / (job.key.hex() + job.extension);
+    run.o.key = job.key.hex();
     run.o.file = path.string();
 
-    if (auto ff = run.try_load(path, key)) {
+    if (auto v = run.try_load(path)) {
         run.o.status = CacheStatus::Hit;
-        return std::move(*ff);
+        return done(std::move(*v));
     }
     if (!run.o.reason.empty()) warn("cache file " + path.string() + ": " + run.o.reason + "; recomputing it");
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir, ec)) return run.compute_unstored(dir, ec);
+    if (ec || !fs::is_directory(dir, ec)) return done(run.compute_unstored(dir, ec));
 
     const Stopwatch waited;
-    const KeyLock lock(dir / (key.hex() + ".lock"), settings.lock_timeout_s, warn);
+    const KeyLock lock(dir / (job.key.hex() + ".lock"), settings.lock_timeout_s, warn);
     run.o.wait_s = waited.seconds();
     // Another process may have computed it while this one waited for the lock.
     const std::string first_reason = run.o.reason;
-    if (auto ff = run.try_load(path, key)) {
+    if (auto v = run.try_load(path)) {
         run.o.status = CacheStatus::Hit;
         run.o.reason.clear();
-        return std::move(*ff);
+        return done(std::move(*v));
     }
     if (run.o.reason.empty()) run.o.reason = first_reason;
-    return run.compute_and_store(path, key);
+    return done(run.compute_and_store(path));
+}
+
+CacheJob<FormFactors> matrix_job(const Scene& scene, const SceneGeometry& geometry,
+                                 const FormFactorOptions& options, const ComputeFormFactors& how) {
+    const CacheKey key = form_factor_key(scene, options);
+    return {".rff",
+            "form factors",
+            key,
+            [&scene, &geometry, &options, &how] {
+                return how ? how(scene, geometry, options) : compute_form_factors(geometry, options);
+            },
+            [&scene, &geometry, &options, key](const fs::path& path) {
+                return read_cache_file(path, {key, &geometry, options, scene.closed});
+            },
+            [&scene, &geometry, &options, key](const fs::path& path, const FormFactors& ff) {
+                check_cache_matrix(ff, options, scene.closed);
+                write_cache_file(path, key, scene.name, scene.closed, geometry, ff);
+            }};
 }
 
 }  // namespace
@@ -240,24 +277,39 @@ FormFactors obtain(CacheRun& run, const Scene& scene, const FormFactorOptions& o
 FormFactors obtain_form_factors(const Scene& scene, const SceneGeometry& geometry,
                                 const FormFactorOptions& options, const CacheSettings& settings,
                                 const WarningSink& warn, CacheOutcome* outcome) {
-    CacheRun run(scene, geometry, options, settings.compute, warn);
-    FormFactors ff = obtain(run, scene, options, settings, warn);
-    if (outcome) *outcome = run.o;
-    return ff;
+    return obtain(matrix_job(scene, geometry, options, settings.compute), options, settings, warn, outcome);
+}
+
+Hierarchy obtain_hierarchy(const Scene& scene, const SceneGeometry& geometry,
+                           const FormFactorOptions& options, const CacheSettings& settings,
+                           const WarningSink& warn, CacheOutcome* outcome) {
+    const CacheKey key = hierarchy_key(scene, options);
+    const CacheJob<Hierarchy> job{
+        ".rhl",
+        "hierarchical links",
+        key,
+        [&] { return build_hierarchy(geometry, hierarchy_options(options), options); },
+        [&](const fs::path& path) {
+            return read_link_file(path, {key, &geometry, options, scene.closed});
+        },
+        [&](const fs::path& path, const Hierarchy& h) {
+            check_cache_links(h, options, scene.closed);
+            write_link_file(path, key, scene.name, scene.closed, geometry, options, h);
+        }};
+    return obtain(job, options, settings, warn, outcome);
 }
 
 std::optional<FormFactors> find_cached_form_factors(const Scene& scene, const SceneGeometry& geometry,
                                                     const FormFactorOptions& options,
                                                     const CacheSettings& settings, CacheOutcome* outcome) {
-    CacheRun run(scene, geometry, options, settings.compute, [](const std::string&) {});
+    const CacheJob<FormFactors> job = matrix_job(scene, geometry, options, settings.compute);
+    CacheRun<FormFactors> run(job, [](const std::string&) {});
     std::optional<FormFactors> ff;
     if (settings.enabled && options.culling) {
-        const fs::path dir = settings.dir.empty() ? default_cache_dir() : settings.dir;
-        const CacheKey key = form_factor_key(scene, options);
-        const fs::path path = dir / (key.hex() + ".rff");
-        run.o.key = key.hex();
+        const fs::path path = cache_dir(settings) / (job.key.hex() + job.extension);
+        run.o.key = job.key.hex();
         run.o.file = path.string();
-        ff = run.try_load(path, key);
+        ff = run.try_load(path);
         if (ff) run.o.status = CacheStatus::Hit;
     }
     if (outcome) *outcome = run.o;

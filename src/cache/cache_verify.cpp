@@ -17,11 +17,7 @@ namespace radiosa {
 
 using namespace cache_format;
 
-namespace {
-
-constexpr std::size_t kChunk = 1 << 20;
-
-void check_checksum(const Source& src) {
+void cache_format::check_checksum(const Source& src) {
     std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), XXH3_freeState);
     XXH3_64bits_reset(state.get());
     const std::uint64_t body = src.size() - 8;
@@ -39,8 +35,7 @@ void check_checksum(const Source& src) {
         throw CacheFileError("checksum mismatch (the file is damaged or truncated)");
 }
 
-// The table: surface splits, patch entries in range, the counters.
-void check_table(const Source& src, const Header& h) {
+void cache_format::check_table(const Source& src, const Header& h, int extra_counters) {
     const std::uint64_t offset = h.length, size = src.size() - 8 - h.stored - h.length;
     const std::vector<std::uint8_t> table = src.read_vector(offset, static_cast<std::size_t>(size));
     ByteReader in(table.data(), table.size());
@@ -59,108 +54,12 @@ void check_table(const Source& src, const Header& h) {
     }
     FormFactorStats stats;
     stats.for_each_counter([&](const char*, long long& v) { v = in.i64(); });
+    for (int k = 0; k < extra_counters; ++k)
+        if (in.i64() < 0) throw CacheFileError("table holds a negative counter");
     if (in.remaining() != 0) throw CacheFileError("table has trailing bytes");
 }
 
-// The matrix section as a byte stream, decompressed chunk by chunk when it is compressed;
-// never yields more than the header's uncompressed size.
-class SectionStream {
-public:
-    SectionStream(const Source& src, const Header& h)
-        : m_src(src),
-          m_at(src.size() - 8 - h.stored),
-          m_left(h.stored),
-          m_raw_left(h.raw),
-          m_zstd(h.compression == kCompressZstd),
-          m_in(kChunk),
-          m_out(kChunk) {
-        if (m_zstd) m_ds.reset(ZSTD_createDStream());
-    }
-    // Exactly n bytes, or CacheFileError.
-    void read(void* dst, std::size_t n) {
-        if (n > m_raw_left) throw CacheFileError("matrix section is shorter than its content");
-        m_raw_left -= n;
-        auto* p = static_cast<std::uint8_t*>(dst);
-        while (n > 0) {
-            if (m_out_pos == m_out_len) refill();
-            const std::size_t k = std::min(n, m_out_len - m_out_pos);
-            std::memcpy(p, m_out.data() + m_out_pos, k);
-            m_out_pos += k;
-            p += k;
-            n -= k;
-        }
-    }
-    double f64() {
-        std::uint8_t b[8];
-        read(b, 8);
-        return ByteReader(b, 8).f64();
-    }
-    // Everything consumed: no bytes left over in the file or the decompressor.
-    void finish() {
-        if (m_raw_left != 0 || m_out_pos != m_out_len)
-            throw CacheFileError("matrix section has trailing bytes");
-        if (m_zstd) drain();
-        if (m_left != 0 || m_in_pos != m_in_len) throw CacheFileError("matrix section has trailing bytes");
-    }
-
-private:
-    void read_input() {
-        m_in_len = static_cast<std::size_t>(std::min<std::uint64_t>(kChunk, m_left));
-        if (m_in_len == 0) throw CacheFileError("compressed matrix ends early");
-        m_src.read(m_at, m_in.data(), m_in_len);
-        m_at += m_in_len;
-        m_left -= m_in_len;
-        m_in_pos = 0;
-    }
-    // The end of the zstd frame: it must hold nothing beyond the header's size.
-    void drain() {
-        while (!m_frame_done) {
-            if (m_in_pos == m_in_len && m_left > 0) read_input();
-            ZSTD_inBuffer in{m_in.data(), m_in_len, m_in_pos};
-            ZSTD_outBuffer out{m_out.data(), m_out.size(), 0};
-            const std::size_t r = ZSTD_decompressStream(m_ds.get(), &out, &in);
-            if (ZSTD_isError(r)) throw CacheFileError("compressed matrix does not decompress");
-            m_in_pos = in.pos;
-            if (out.pos != 0) throw CacheFileError("compressed matrix holds more than its header says");
-            m_frame_done = r == 0;
-            if (!m_frame_done && m_in_pos == m_in_len && m_left == 0)
-                throw CacheFileError("compressed matrix ends early");
-        }
-    }
-    void refill() {
-        m_out_pos = 0;
-        if (!m_zstd) {
-            m_out_len = static_cast<std::size_t>(std::min<std::uint64_t>(kChunk, m_left));
-            if (m_out_len == 0) throw CacheFileError("matrix section is truncated");
-            m_src.read(m_at, m_out.data(), m_out_len);
-            m_at += m_out_len;
-            m_left -= m_out_len;
-            return;
-        }
-        for (m_out_len = 0; m_out_len == 0;) {
-            if (m_frame_done) throw CacheFileError("compressed matrix is shorter than its header says");
-            if (m_in_pos == m_in_len) read_input();
-            ZSTD_inBuffer in{m_in.data(), m_in_len, m_in_pos};
-            ZSTD_outBuffer out{m_out.data(), m_out.size(), 0};
-            const std::size_t r = ZSTD_decompressStream(m_ds.get(), &out, &in);
-            if (ZSTD_isError(r)) throw CacheFileError("compressed matrix does not decompress");
-            m_in_pos = in.pos;
-            m_out_len = out.pos;
-            m_frame_done = r == 0;
-        }
-    }
-
-    struct FreeDStream {
-        void operator()(ZSTD_DStream* d) const { ZSTD_freeDStream(d); }
-    };
-    const Source& m_src;
-    std::uint64_t m_at, m_left, m_raw_left;
-    bool m_zstd;
-    std::unique_ptr<ZSTD_DStream, FreeDStream> m_ds;
-    std::vector<std::uint8_t> m_in, m_out;
-    std::size_t m_in_pos = 0, m_in_len = 0, m_out_pos = 0, m_out_len = 0;
-    bool m_frame_done = false;
-};
+namespace {
 
 void check_value(double f, std::uint64_t i, std::uint64_t j) {
     // 1 % above 1 at most: an entry may exceed 1 by its error estimate, checked exactly on load.
@@ -218,8 +117,8 @@ CacheFileInfo verify_source(const Source& src) {
     const Header h = read_source_header(src);
     check_sizes(h, src.size());
     check_checksum(src);
-    check_table(src, h);
-    SectionStream s(src, h);
+    check_table(src, h, 0);
+    SectionStream s(src, h.stored, h.raw, h.compression == kCompressZstd);
     std::vector<double> row_sum(h.info.patches, 0.0), row_error(h.info.patches, 0.0);
     stream_values(s, h, &row_sum);
     if (h.info.has_error_estimates) stream_estimates(s, h, &row_error);

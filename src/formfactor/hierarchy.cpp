@@ -174,22 +174,52 @@ struct Rect {
     double s0, s1, t0, t1;
 };
 
+Rect node_rect(const SceneGeometry& g, const HierarchyNode& n) {
+    const Patch& lo = g.patch(g.patch_index(n.surface, n.is0, n.it0));
+    const Patch& hi = g.patch(g.patch_index(n.surface, n.is1 - 1, n.it1 - 1));
+    return {lo.s0, hi.s1, lo.t0, hi.t1};
+}
+
+// m x m Gauss points of every node, node after node.
+std::vector<Sample> node_samples(const SceneGeometry& g, const Hierarchy& h, int m) {
+    const GaussRule rule = gauss_legendre(m);
+    std::vector<Sample> out;
+    out.reserve(h.nodes.size() * static_cast<std::size_t>(m * m));
+    for (const HierarchyNode& n : h.nodes) {
+        Patch rect_only;  // quadrature_points reads the parameter rectangle only
+        const Rect r = node_rect(g, n);
+        rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
+        const std::vector<QuadPoint> qs = quadrature_points(g.surface(n.surface), rect_only, rule);
+        for (std::size_t k = 0; k < qs.size(); ++k) {  // s inner, t outer (cubature.h)
+            const double w = glm::length(qs[k].nw);
+            out.push_back({qs[k].x, w > 0.0 ? qs[k].nw / w : Vec3(0.0), w,
+                           rule.x[k % static_cast<std::size_t>(m)], rule.x[k / static_cast<std::size_t>(m)]});
+        }
+    }
+    return out;
+}
+
+// Each node's area centroid in its own (u, v), from m x m Gauss points.
+void node_centroids(const SceneGeometry& g, int m, Hierarchy* h) {
+    const std::vector<Sample> samples = node_samples(g, *h, m);
+    const std::size_t mm = static_cast<std::size_t>(m * m);
+    for (std::size_t i = 0; i < h->nodes.size(); ++i) {
+        double w = 0.0, wu = 0.0, wv = 0.0;
+        for (std::size_t a = i * mm; a < (i + 1) * mm; ++a) {
+            w += samples[a].w;
+            wu += samples[a].w * samples[a].u;
+            wv += samples[a].w * samples[a].v;
+        }
+        if (w > 0.0) h->nodes[i].cu = wu / w, h->nodes[i].cv = wv / w;
+    }
+}
+
 class Refiner {
 public:
     Refiner(const SceneGeometry& g, const HierarchyOptions& o, const FormFactorOptions& leaf, Hierarchy* h)
         : m_g(g), m_o(o), m_leaf(leaf), m_rows(g, leaf), m_h(*h), m_m(o.samples) {
-        m_samples = node_samples(m_m);
-        m_coarse = node_samples(m_m - 1);
-        const std::size_t mm = static_cast<std::size_t>(m_m * m_m);
-        for (std::size_t i = 0; i < h->nodes.size(); ++i) {
-            double w = 0.0, wu = 0.0, wv = 0.0;
-            for (std::size_t a = i * mm; a < (i + 1) * mm; ++a) {
-                w += m_samples[a].w;
-                wu += m_samples[a].w * m_samples[a].u;
-                wv += m_samples[a].w * m_samples[a].v;
-            }
-            if (w > 0.0) h->nodes[i].cu = wu / w, h->nodes[i].cv = wv / w;
-        }
+        m_samples = node_samples(g, *h, m_m);
+        m_coarse = node_samples(g, *h, m_m - 1);
         m_eps = 1e-9 * g.scale();
     }
 
@@ -218,34 +248,7 @@ public:
     }
 
 private:
-    Rect rect(int node) const {
-        const HierarchyNode& n = m_h.nodes[static_cast<std::size_t>(node)];
-        const Patch& lo = m_g.patch(m_g.patch_index(n.surface, n.is0, n.it0));
-        const Patch& hi = m_g.patch(m_g.patch_index(n.surface, n.is1 - 1, n.it1 - 1));
-        return {lo.s0, hi.s1, lo.t0, hi.t1};
-    }
     const HierarchyNode& node(int i) const { return m_h.nodes[static_cast<std::size_t>(i)]; }
-
-    // m x m Gauss points of every node, node after node.
-    std::vector<Sample> node_samples(int m) const {
-        const GaussRule rule = gauss_legendre(m);
-        std::vector<Sample> out;
-        out.reserve(m_h.nodes.size() * static_cast<std::size_t>(m * m));
-        for (std::size_t i = 0; i < m_h.nodes.size(); ++i) {
-            Patch rect_only;  // quadrature_points reads the parameter rectangle only
-            const Rect r = rect(static_cast<int>(i));
-            rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
-            const std::vector<QuadPoint> qs =
-                quadrature_points(m_g.surface(m_h.nodes[i].surface), rect_only, rule);
-            for (std::size_t k = 0; k < qs.size(); ++k) {  // s inner, t outer (cubature.h)
-                const double w = glm::length(qs[k].nw);
-                out.push_back({qs[k].x, w > 0.0 ? qs[k].nw / w : Vec3(0.0), w,
-                               rule.x[k % static_cast<std::size_t>(m)],
-                               rule.x[k / static_cast<std::size_t>(m)]});
-            }
-        }
-        return out;
-    }
 
     // The coupling from the (m - 1) x (m - 1) points of each node.
     double coarse_coupling(int p, int q, const BlockerSet& guard, long long* tests) const {
@@ -287,7 +290,7 @@ private:
         for (const auto& [x, y] : {std::pair{p, q}, std::pair{q, p}}) {
             const Surface& sx = m_g.surface(node(x).surface);
             const Surface& sy = m_g.surface(node(y).surface);
-            const Rect r = rect(y);
+            const Rect r = node_rect(m_g, node(y));
             if (const auto pl = sx.plane()) {
                 const auto range = sy.linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1);
                 if (range.second - pl->offset <= m_eps) return true;
@@ -316,7 +319,7 @@ private:
         const double beta = std::acos(std::clamp(glm::dot(dx, dy) / (lx * ly), -1.0, 1.0));
         const double gap = std::max(0.0, beta - alpha - gamma);
         if (gap >= 0.5 * kPi) return true;
-        const Rect r = rect(y);
+        const Rect r = node_rect(m_g, node(y));
         const double far =
             m_g.surface(node(y).surface).max_distance_from_point(ball.center, r.s0, r.s1, r.t0, r.t1);
         return far * std::cos(gap) <= R - m_eps;
@@ -605,21 +608,32 @@ FormFactorChecks check_hierarchy(const Hierarchy& h, double leaf_tolerance) {
     return c;
 }
 
-Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
-                          const FormFactorOptions& leaf) {
-    const Stopwatch clock;
+Hierarchy hierarchy_nodes(const SceneGeometry& geometry, const HierarchyOptions& options) {
     Hierarchy h;
     h.options = options;
     build_nodes(geometry, &h);
+    node_centroids(geometry, options.samples, &h);
+    h.first_link.assign(h.nodes.size() + 1, 0);
+    return h;
+}
+
+void index_links(Hierarchy* h) {
+    h->first_link.assign(h->nodes.size() + 1, 0);
+    for (const Link& l : h->links) ++h->first_link[static_cast<std::size_t>(l.receiver) + 1];
+    for (std::size_t i = 1; i < h->first_link.size(); ++i) h->first_link[i] += h->first_link[i - 1];
+    h->stats.links = static_cast<long long>(h->links.size());
+}
+
+Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
+                          const FormFactorOptions& leaf) {
+    const Stopwatch clock;
+    Hierarchy h = hierarchy_nodes(geometry, options);
     FormFactorOptions pairs = leaf;  // the pairs of patches are integrated as the adaptive method's
     if (pairs.method == FormFactorMethod::Hierarchical) pairs.method = FormFactorMethod::Adaptive;
     Refiner refiner(geometry, options, pairs, &h);
     refiner.run();
     refiner.collect(&h);
-    h.first_link.assign(h.nodes.size() + 1, 0);
-    for (const Link& l : h.links) ++h.first_link[static_cast<std::size_t>(l.receiver) + 1];
-    for (std::size_t i = 1; i < h.first_link.size(); ++i) h.first_link[i] += h.first_link[i - 1];
-    h.stats.links = static_cast<long long>(h.links.size());
+    index_links(&h);
     h.stats.seconds = clock.seconds();
     return h;
 }

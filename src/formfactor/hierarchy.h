@@ -163,6 +163,13 @@ FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g);
 // Memory held by the nodes, links and their index.
 std::size_t hierarchy_bytes(const Hierarchy& h);
 
+// The nodes alone (no links): what the links refer to, rebuilt from the geometry when the
+// links come from the cache.
+Hierarchy hierarchy_nodes(const SceneGeometry& geometry, const HierarchyOptions& options);
+
+// Sets first_link (and stats.links) from links sorted by (receiver, source).
+void index_links(Hierarchy* h);
+
 // Builds the hierarchy and its links. `leaf` sets the leaf pairs' integration (its method and
 // tolerance); culling and visibility follow it. Deterministic for any thread count.
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,

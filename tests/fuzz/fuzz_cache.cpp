@@ -3,7 +3,8 @@
 // integrity checks into the header, size, table and sense checks. A bad file must end in
 // CacheFileError; anything else (a crash, a sanitizer report, another exception, an allocation
 // beyond the scene's matrix: run with -malloc_limit_mb) is a bug. The same bytes also go
-// through `cache verify`'s streaming reader, which has no scene to bound it.
+// through `cache verify`'s streaming reader, which has no scene to bound it. Bytes that start
+// with the hierarchical-link file's magic go through its reader and verifier instead.
 #include <xxhash.h>
 
 #include <cstddef>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "cache/cache_file.h"
+#include "cache/link_file.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 
@@ -33,6 +35,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     radiosa::CacheExpectation expect{{}, &geometry, radiosa::FormFactorOptions(), seed().closed};
     if (bytes.size() >= 32) std::memcpy(expect.key.bytes.data(), bytes.data() + 16, 16);
+    if (bytes.size() >= 8 && std::memcmp(bytes.data(), "RADHL", 5) == 0) {
+        expect.options = radiosa::FormFactorOptions::hierarchical(radiosa::kDefaultLinkTolerance);
+        try {
+            (void)radiosa::read_link_bytes(bytes, expect);
+        } catch (const radiosa::CacheFileError&) {
+        }
+        try {
+            (void)radiosa::verify_link_bytes(bytes);
+        } catch (const radiosa::CacheFileError&) {
+        }
+        return 0;
+    }
     try {
         (void)radiosa::read_cache_bytes(bytes, expect);
     } catch (const radiosa::CacheFileError&) {
