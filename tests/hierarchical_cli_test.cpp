@@ -253,7 +253,8 @@ TEST(HierarchicalCli, RefusesWhatItCannotDo) {
            "phi_deg: 90, fov_deg: 50}\nevents:\n  - {time_s: [0, 1], surface: sphere, translate: [0, "
            "0.1, 0]}\n";
     // Numbered images, so the refusal is the same in a build without video.
-    r = run({"render", "-s", moving.string(), "-o", (d / "f%02d.png").string(), "--ff-method", "hierarchical"});
+    r = run(
+        {"render", "-s", moving.string(), "-o", (d / "f%02d.png").string(), "--ff-method", "hierarchical"});
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("hierarchical links are not updated for motion"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(d / "f00.png"));

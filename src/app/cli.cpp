@@ -300,9 +300,11 @@ int run_command(const CLI::App& app, Commands& c, const WarningSink& warn, std::
     c.still.form_factors.cache.compute = form_factors_across(cluster, c.still.threads);
     c.formfactors_job.form_factors.cache.compute = form_factors_across(cluster, c.formfactors_job.threads);
     // In one process on a terminal, a matrix being computed shows its progress.
-    if (!cluster.distributed() && !c.quiet && &err == &std::cerr && ::isatty(2))
+    if (!cluster.distributed() && !c.quiet && &err == &std::cerr && ::isatty(2)) {
         c.still.form_factors.cache.compute = c.formfactors_job.form_factors.cache.compute =
             computing_with_progress(err);
+        c.still.form_factors.cache.progress = c.formfactors_job.form_factors.cache.progress = &err;
+    }
     const std::filesystem::path dir = c.cache_dir.dir.empty() ? default_cache_dir() : c.cache_dir.dir;
     if (c.cache_list->parsed()) {
         cache_list(dir, out);

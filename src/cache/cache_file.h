@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <ostream>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -116,9 +117,10 @@ using ComputeFormFactors =
 
 struct CacheSettings {
     bool enabled = true;
-    ComputeFormFactors compute;     // empty: compute_form_factors here
-    std::filesystem::path dir;      // empty: default_cache_dir()
-    double lock_timeout_s = 600.0;  // give up waiting for another process's lock after this long
+    ComputeFormFactors compute;        // empty: compute_form_factors here
+    std::ostream* progress = nullptr;  // links being built show a progress bar here (a terminal)
+    std::filesystem::path dir;         // empty: default_cache_dir()
+    double lock_timeout_s = 600.0;     // give up waiting for another process's lock after this long
 };
 
 // $RADIOSA_CACHE_DIR if set and not empty, else "out/cache".

@@ -19,6 +19,7 @@
 #include "scene/scene.h"
 #include "util/atomic_file.h"
 #include "util/error.h"
+#include "util/progress.h"
 #include "util/stopwatch.h"
 
 namespace radiosa {
@@ -284,18 +285,23 @@ Hierarchy obtain_hierarchy(const Scene& scene, const SceneGeometry& geometry,
                            const FormFactorOptions& options, const CacheSettings& settings,
                            const WarningSink& warn, CacheOutcome* outcome) {
     const CacheKey key = hierarchy_key(scene, options);
-    const CacheJob<Hierarchy> job{
-        ".rhl",
-        "hierarchical links",
-        key,
-        [&] { return build_hierarchy(geometry, hierarchy_options(options), options); },
-        [&](const fs::path& path) {
-            return read_link_file(path, {key, &geometry, options, scene.closed});
-        },
-        [&](const fs::path& path, const Hierarchy& h) {
-            check_cache_links(h, options, scene.closed);
-            write_link_file(path, key, scene.name, scene.closed, geometry, options, h);
-        }};
+    const CacheJob<Hierarchy> job{".rhl",
+                                  "hierarchical links",
+                                  key,
+                                  [&] {
+                                      const long long n = geometry.patch_count();
+                                      ProgressBar bar(settings.progress, "links", n * (n + 1) / 2);
+                                      return build_hierarchy(geometry, hierarchy_options(options), options,
+                                                             [&bar](long long pairs) { bar.add(pairs); });
+                                  },
+                                  [&](const fs::path& path) {
+                                      return read_link_file(path, {key, &geometry, options, scene.closed});
+                                  },
+                                  [&](const fs::path& path, const Hierarchy& h) {
+                                      check_cache_links(h, options, scene.closed);
+                                      write_link_file(path, key, scene.name, scene.closed, geometry, options,
+                                                      h);
+                                  }};
     return obtain(job, options, settings, warn, outcome);
 }
 

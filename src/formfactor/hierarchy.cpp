@@ -216,8 +216,9 @@ void node_centroids(const SceneGeometry& g, int m, Hierarchy* h) {
 
 class Refiner {
 public:
-    Refiner(const SceneGeometry& g, const HierarchyOptions& o, const FormFactorOptions& leaf, Hierarchy* h)
-        : m_g(g), m_o(o), m_leaf(leaf), m_rows(g, leaf), m_h(*h), m_m(o.samples) {
+    Refiner(const SceneGeometry& g, const HierarchyOptions& o, const FormFactorOptions& leaf,
+            const PairProgress& progress, Hierarchy* h)
+        : m_g(g), m_o(o), m_leaf(leaf), m_rows(g, leaf), m_h(*h), m_m(o.samples), m_progress(progress) {
         m_samples = node_samples(g, *h, m_m);
         m_coarse = node_samples(g, *h, m_m - 1);
         m_eps = 1e-9 * g.scale();
@@ -228,7 +229,10 @@ public:
         std::vector<std::pair<int, int>> tops;
         for (int k = 0; k < m_h.roots; ++k)
             for (int l = k; l < m_h.roots; ++l) {
-                if (k == l && !m_g.surface(k).sees_itself()) continue;
+                if (k == l && !m_g.surface(k).sees_itself()) {
+                    done(k, k);
+                    continue;
+                }
                 tops.emplace_back(k, l);
             }
         tbb::parallel_for(std::size_t{0}, tops.size(),
@@ -399,6 +403,7 @@ private:
         FormFactorStats& st = m_leaf_stats.local();
         const PairEntries e = m_rows.pair(node(p).patch, node(q).patch, &st);
         m_leaf_links += add(p, q, e.f_ij, e.e_ij) + (p != q && add(q, p, e.f_ji, e.e_ji));
+        done(p, q);
     }
 
     // Two pair refinements, in parallel while the nodes are large (the split points do not
@@ -413,6 +418,12 @@ private:
         }
     }
     static int patches(const HierarchyNode& n) { return (n.is1 - n.is0) * (n.it1 - n.it0); }
+    // Tells the progress the pairs of patches under nodes p and q (p == q: each pair once).
+    void done(int p, int q) const {
+        if (!m_progress) return;
+        const long long a = patches(node(p)), b = patches(node(q));
+        m_progress(p == q ? a * (a + 1) / 2 : a * b);
+    }
 
     void refine(int p, int q) {
         ++m_node_pairs;
@@ -428,7 +439,7 @@ private:
         if (a.leaf() && b.leaf()) return leaf_pair(p, q);
         if (proven_zero(p, q)) {
             ++m_dropped;
-            return;
+            return done(p, q);
         }
         const Coupling c = sample(p, q);
         // The error of p's gather over the link, per unit of radiosity: each side's plane carries
@@ -442,7 +453,7 @@ private:
         if (c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance) {
             add(p, q, c.g / a.area, e_pq, slopes(a, c.fit_p, b, c.fit_q));
             add(q, p, c.g / b.area, e_qp, slopes(b, c.fit_q, a, c.fit_p));
-            return;
+            return done(p, q);
         }
         // Every sample pair hidden: a zero coupling whose estimate is what the open view
         // could carry. (A pair whose samples all face away is split until a proof or the
@@ -451,7 +462,7 @@ private:
             ++m_dropped;
             add(p, q, 0.0, c.open_p);
             add(q, p, 0.0, c.open_q);
-            return;
+            return done(p, q);
         }
         // Split the larger node (a leaf is never split).
         const bool split_a = !a.leaf() && (b.leaf() || a.area >= b.area);
@@ -469,6 +480,7 @@ private:
     Hierarchy& m_h;
     int m_m;
     double m_eps = 0.0;
+    const PairProgress& m_progress;
     std::vector<Sample> m_samples, m_coarse;
     tbb::enumerable_thread_specific<std::vector<Link>> m_links;
     tbb::enumerable_thread_specific<FormFactorStats> m_leaf_stats;
@@ -625,12 +637,12 @@ void index_links(Hierarchy* h) {
 }
 
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
-                          const FormFactorOptions& leaf) {
+                          const FormFactorOptions& leaf, const PairProgress& progress) {
     const Stopwatch clock;
     Hierarchy h = hierarchy_nodes(geometry, options);
     FormFactorOptions pairs = leaf;  // the pairs of patches are integrated as the adaptive method's
     if (pairs.method == FormFactorMethod::Hierarchical) pairs.method = FormFactorMethod::Adaptive;
-    Refiner refiner(geometry, options, pairs, &h);
+    Refiner refiner(geometry, options, pairs, progress, &h);
     refiner.run();
     refiner.collect(&h);
     index_links(&h);

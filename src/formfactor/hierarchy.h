@@ -171,9 +171,11 @@ Hierarchy hierarchy_nodes(const SceneGeometry& geometry, const HierarchyOptions&
 void index_links(Hierarchy* h);
 
 // Builds the hierarchy and its links. `leaf` sets the leaf pairs' integration (its method and
-// tolerance); culling and visibility follow it. Deterministic for any thread count.
+// tolerance); culling and visibility follow it. Deterministic for any thread count. `progress`
+// is told the pairs of patches each finished link, leaf pair or dropped pair covers: they add
+// up to N (N + 1) / 2, as the dense path's pairs do.
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
-                          const FormFactorOptions& leaf);
+                          const FormFactorOptions& leaf, const PairProgress& progress = {});
 
 // The matrix checks (form_factor.h) over the links: closure from row_sums(), reciprocity
 // A_p f_pq = A_q f_qp between each link and its reverse, the smallest coupling, the largest

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -79,7 +80,14 @@ TEST(Hierarchy, LinksAreReciprocalAndRowsCloseInAClosedScene) {
     const SceneGeometry g(scene);
     HierarchyOptions o;
     o.tolerance = 1e-3;
-    const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
+    std::atomic<long long> covered{0};
+    const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6),
+                                        [&covered](long long pairs) { covered += pairs; });
+    // The progress counts every pair of patches once, whether a link, a leaf pair or a proof
+    // settled it (the progress bar ends at 100 %).
+    const long long n = g.patch_count();
+    EXPECT_EQ(covered.load(), n * (n + 1) / 2);
+    EXPECT_GT(h.stats.dropped, 0);
     // Every link between two nodes has its reverse with A_p f_pq = A_q f_qp.
     long long node_links = 0;
     for (const Link& l : h.links) {
