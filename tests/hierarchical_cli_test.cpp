@@ -57,8 +57,9 @@ std::pair<float, float> image_difference(const fs::path& a_path, const fs::path&
 }  // namespace
 
 // The seed scene over links renders what the dense path renders: at 86 patches every link joins
-// two patches, integrated as the dense path integrates them, so the EXR pixels agree to the
-// solves' stopping rules, and the report carries the hierarchy's keys.
+// two patches, integrated as the dense path integrates them but in one direction (the other by
+// reciprocity), so entries agree within their tolerance (1e-6) and radiosities within what that
+// allows (measured 5e-8 of 0.34); the report carries the hierarchy's keys.
 TEST(HierarchicalCli, StillMatchesTheDensePath) {
     const fs::path d = fresh_dir("radiosa_hier_still");
     const auto render = [&](const std::string& tag, std::vector<std::string> extra) {
@@ -77,7 +78,7 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     render("dense", {"--radiosities", (d / "dense.csv").string()});
     render("links", {"--ff-method", "hierarchical", "--ff-tolerance", "1e-5", "--radiosities",
                      (d / "links.csv").string()});
-    // Per patch: the same radiosities to the solves' stopping rules (1e-10 of the largest).
+    // Per patch: the same radiosities within what entries within 1e-6 allow.
     const auto rows = [](const fs::path& p) {
         std::ifstream in(p);
         std::vector<std::vector<double>> out;
@@ -96,7 +97,7 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     ASSERT_EQ(rd.size(), 86u);
     ASSERT_EQ(rl.size(), 86u);
     for (std::size_t i = 0; i < rd.size(); ++i)
-        for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(rl[i][k], rd[i][k], 1e-8) << i << " " << k;
+        for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(rl[i][k], rd[i][k], 1e-6) << i << " " << k;
     const nlohmann::json j = read_json(d / "links.json");
     EXPECT_EQ(j["form_factor_method"], "hierarchical");
     EXPECT_EQ(j["link_tolerance"], 1e-5);
@@ -111,12 +112,14 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     for (const auto& e : j["radiosity_error_estimate"]) EXPECT_LT(e.get<double>(), 1e-4);
     const auto [top, diff] = image_difference(d / "dense.exr", d / "links.exr");
     EXPECT_GT(top, 0.1f);
-    EXPECT_LE(diff, 1e-6f * top);
+    EXPECT_LE(diff, 1e-5f * top);
     fs::remove_all(d);
 }
 
 // Expanded to a matrix, the links of the seed scene are the dense matrix: every link is a pair
-// of patches integrated by the same code at the same tolerance (in either order, so to rounding).
+// of patches integrated by the same code at the same tolerance, so every entry is within it
+// (1e-6) of the dense one. The dense path integrates both directions of a pair; the links one,
+// the other by reciprocity, so their matrix is reciprocal to rounding.
 TEST(HierarchicalCli, ExpandedMatrixIsTheDenseMatrix) {
     const fs::path d = fresh_dir("radiosa_hier_matrix");
     CliRun r = run({"formfactors", kScene, "-m", (d / "dense.npy").string(), "--no-cache", "-q"});
@@ -129,7 +132,23 @@ TEST(HierarchicalCli, ExpandedMatrixIsTheDenseMatrix) {
     ASSERT_EQ(b.size(), a.size());
     double diff = 0.0;
     for (std::size_t i = 0; i < a.size(); ++i) diff = std::max(diff, std::abs(a[i] - b[i]));
-    EXPECT_LE(diff, 1e-12);
+    EXPECT_LE(diff, 1e-6);
+    std::ifstream table(d / "links.patches.csv");
+    std::vector<double> area;
+    std::string line;
+    std::getline(table, line);
+    EXPECT_EQ(line, "patch,surface,is,it,area");
+    while (std::getline(table, line)) area.push_back(std::stod(line.substr(line.rfind(',') + 1)));
+    ASSERT_EQ(area.size(), 86u);
+    double asym = 0.0, dense_asym = 0.0;
+    for (std::size_t i = 0; i < 86; ++i)
+        for (std::size_t k = 0; k < 86; ++k) {
+            const double gi = area[i] * b[i * 86 + k], gk = area[k] * b[k * 86 + i];
+            asym = std::max(asym, std::abs(gi - gk) / std::max({gi, gk, 1e-300}));
+            dense_asym = std::max(dense_asym, std::abs(area[i] * a[i * 86 + k] - area[k] * a[k * 86 + i]));
+        }
+    EXPECT_LE(asym, 1e-14);
+    EXPECT_GT(dense_asym, 1e-9);  // the dense pairs' two directions differ within their tolerance
     fs::remove_all(d);
 }
 

@@ -72,8 +72,11 @@ TEST(SurfaceRegistry, EveryFormFactorOptionReachesTheCacheKey) {
     std::set<std::string> keys;
     FormFactorOptions no_visibility;
     no_visibility.visibility = false;
-    for (const FormFactorOptions& o : {FormFactorOptions(), FormFactorOptions::adaptive(1e-7), no_visibility,
-                                       FormFactorOptions::gauss(6), FormFactorOptions::gauss(7)})
+    FormFactorOptions one_direction;
+    one_direction.one_direction = true;
+    for (const FormFactorOptions& o :
+         {FormFactorOptions(), FormFactorOptions::adaptive(1e-7), no_visibility, FormFactorOptions::gauss(6),
+          FormFactorOptions::gauss(7), one_direction})
         EXPECT_TRUE(keys.insert(form_factor_key(s, o).hex()).second) << describe(o);
 }
 

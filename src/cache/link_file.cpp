@@ -252,6 +252,7 @@ CacheKey hierarchy_key(const Scene& scene, const FormFactorOptions& options) {
     ByteWriter w;
     w.str("radiosa hierarchical links");
     w.u32(kLinkFormatVersion);
+    w.u32(kHierarchyAlgorithmVersion);
     w.raw(form_factor_key(scene, FormFactorOptions::adaptive(options.tolerance, options.visibility))
               .bytes.data(),
           16);

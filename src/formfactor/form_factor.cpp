@@ -441,7 +441,8 @@ public:
     void directions(int i, int j, bool fwd, bool bwd, const Integrate& integrate, const Set& set,
                     FormFactorStats* st) const {
         const double ai = m_geo.patch(i).area, aj = m_geo.patch(j).area;
-        if (fwd && bwd && std::max(ai, aj) > kIndependentAreaRatio * std::min(ai, aj)) {
+        if (fwd && bwd &&
+            (m_opt.one_direction || std::max(ai, aj) > kIndependentAreaRatio * std::min(ai, aj))) {
             if (ai <= aj)
                 bwd = false;
             else

@@ -45,6 +45,12 @@ struct FormFactorOptions {
     // occlusion-free pairs' base rule from it too.
     int gauss_points = 6;
     bool visibility = true;
+    // Adaptive: integrate each pair in one direction only (over the smaller patch; the other
+    // entry by reciprocity), about half the work of a pair. Off, both directions are
+    // integrated independently wherever the patches' areas are within 4x, so that the
+    // matrix's reciprocity checks them. The hierarchy's pairs of patches set it (their links
+    // are reciprocal by construction, as the links above them are).
+    bool one_direction = false;
     // Leave out the work proven useless: pairs that cannot see each other (no quadrature) and
     // surfaces that cannot come between a pair (no occlusion tests; with none left, the closed
     // form applies). false integrates every pair against every surface: a diagnostic that
@@ -91,6 +97,8 @@ std::string describe(const FormFactorOptions& o);
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
 inline constexpr int kFormFactorAlgorithmVersion = 8;
+// The same for the hierarchy's links (formfactor/hierarchy.h), in their cache key.
+inline constexpr int kHierarchyAlgorithmVersion = 2;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included

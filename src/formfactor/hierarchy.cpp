@@ -642,6 +642,7 @@ Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions&
     Hierarchy h = hierarchy_nodes(geometry, options);
     FormFactorOptions pairs = leaf;  // the pairs of patches are integrated as the adaptive method's
     if (pairs.method == FormFactorMethod::Hierarchical) pairs.method = FormFactorMethod::Adaptive;
+    pairs.one_direction = true;  // links are reciprocal: half the work of the dense path's pairs
     Refiner refiner(geometry, options, pairs, progress, &h);
     refiner.run();
     refiner.collect(&h);
