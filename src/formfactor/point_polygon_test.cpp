@@ -3,11 +3,34 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "util/gauss_legendre.h"
 
 namespace radiosa {
 
 namespace {
+// What an on-axis ball of angular radius alpha hides of the half-plane x >= cut on the plane
+// z = h, from the origin facing +z: (1/pi) integral over its cap of cos(theta) dw, the azimuths
+// of each ring with h tan(theta) cos(phi) >= cut. Past theta* = atan(|cut| / h) the ring is cut,
+// with a square-root onset there that the substitution theta = theta* + (alpha - theta*) u^2
+// takes out of the Gauss rule's way.
+double cap_beyond_chord(double alpha, double h, double cut) {
+    const double t0 = std::atan(std::abs(cut) / h);
+    const auto ring = [&](double th) {
+        return 2.0 * std::acos(std::clamp(cut / (h * std::tan(th)), -1.0, 1.0)) * std::cos(th) *
+               std::sin(th) / kPi;
+    };
+    const GaussRule g = gauss_legendre(40);
+    double sum = cut < 0.0 ? std::sin(t0) * std::sin(t0) : 0.0;  // whole rings below theta*
+    for (std::size_t k = 0; k < g.x.size(); ++k) {
+        const double u = 0.5 * (g.x[k] + 1.0);
+        sum += 0.5 * g.w[k] * ring(t0 + (alpha - t0) * u * u) * 2.0 * (alpha - t0) * u;
+    }
+    return sum;
+}
+
 // Point on the axis of a 2a x 2b rectangle at height h, facing it (Howell's catalogue B-3).
 double on_axis(double a, double b, double h) {
     const double A = a / h, B = b / h;
@@ -57,6 +80,29 @@ TEST(PointPolygon, SphereBlockerTakesOutItsProjectedCap) {
     const Vec3 q[4] = {{0, -50, 5}, {0, 50, 5}, {50, 50, 5}, {50, -50, 5}};
     const double q_open = point_to_polygon(x, n, q, 4, nullptr);
     EXPECT_NEAR(point_to_polygon(x, n, q, 4, &s), q_open - 0.5 / 16.0, 1e-13);
+    // Two edges through the axis: the quadrant [0, 50]^2 holds a quarter of the cap (its circle
+    // cut in two pieces, the one outside spanning three quarters of a turn), and a wedge of 60
+    // degrees a sixth.
+    const Vec3 quadrant[4] = {{0, 0, 5}, {0, 50, 5}, {50, 50, 5}, {50, 0, 5}};
+    EXPECT_NEAR(point_to_polygon(x, n, quadrant, 4, &s),
+                point_to_polygon(x, n, quadrant, 4, nullptr) - 0.25 / 16.0, 1e-13);
+    const Vec3 wedge[3] = {{0, 0, 5}, {25, 25 * std::sqrt(3.0), 5}, {50, 0, 5}};
+    EXPECT_NEAR(point_to_polygon(x, n, wedge, 3, &s),
+                point_to_polygon(x, n, wedge, 3, nullptr) - (1.0 / 6.0) / 16.0, 1e-13);
+    // An edge off the axis cuts the cap's circle into a short piece and one of more than half a
+    // turn; either side of it hides the part of the cap beyond the chord.
+    const double alpha = std::asin(0.25);
+    for (const double cut : {0.3, -0.9}) {  // the cap spans |x| < 5 tan(alpha) = 1.29 on z = 5
+        const Vec3 right[4] = {{cut, -50, 5}, {cut, 50, 5}, {50, 50, 5}, {50, -50, 5}};
+        const Vec3 left[4] = {{-50, -50, 5}, {-50, 50, 5}, {cut, 50, 5}, {cut, -50, 5}};
+        const double beyond = cap_beyond_chord(alpha, 5.0, cut);
+        EXPECT_NEAR(point_to_polygon(x, n, right, 4, nullptr) - point_to_polygon(x, n, right, 4, &s), beyond,
+                    1e-13)
+            << cut;
+        EXPECT_NEAR(point_to_polygon(x, n, left, 4, nullptr) - point_to_polygon(x, n, left, 4, &s),
+                    1.0 / 16.0 - beyond, 1e-13)
+            << cut;
+    }
 }
 
 // The cap arc of a sphere seen near the far end of a polygon edge that spans almost half the
