@@ -96,7 +96,7 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 8;
+inline constexpr int kFormFactorAlgorithmVersion = 9;
 // The same for the hierarchy's links (formfactor/hierarchy.h), in their cache key.
 inline constexpr int kHierarchyAlgorithmVersion = 2;
 
