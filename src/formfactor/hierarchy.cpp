@@ -222,6 +222,9 @@ public:
         m_samples = node_samples(g, *h, m_m);
         m_coarse = node_samples(g, *h, m_m - 1);
         m_eps = 1e-9 * g.scale();
+        for (int k = 0; k < g.surface_count(); ++k)
+            if (const auto ball = g.surface(k).sphere(); ball && g.surface(k).whole_sphere())
+                m_balls.emplace_back(k, *ball);
     }
 
     // Every pair of surfaces, and each surface that sees itself with itself.
@@ -327,6 +330,32 @@ private:
         const double far =
             m_g.surface(node(y).surface).max_distance_from_point(ball.center, r.s0, r.s1, r.t0, r.t1);
         return far * std::cos(gap) <= R - m_eps;
+    }
+
+    // Every segment between the two nodes passes through the inside of a whole sphere (a
+    // solid, so the segment crosses its surface), both nodes lying outside it: they exchange
+    // exactly nothing. At a fraction t along the segment from x in p's bounding ball (centre
+    // a, radius r_a) to y in q's (b, r_b), the point (1 - t) x + t y lies within (1 - t) r_a +
+    // t r_b of (1 - t) a + t b; with t where the centre line passes nearest the ball's centre.
+    bool hidden_by_ball(int p, int q) const {
+        if (!m_leaf.visibility) return false;
+        const BoundingSphere& a = node(p).bound;
+        const BoundingSphere& b = node(q).bound;
+        const Vec3 e = b.center - a.center;
+        const double l2 = glm::dot(e, e);
+        if (!(l2 > 0.0)) return false;
+        for (const auto& [k, ball] : m_balls) {
+            if (k == node(p).surface || k == node(q).surface) continue;
+            const double t = glm::dot(ball.center - a.center, e) / l2;
+            if (!(t > 0.0 && t < 1.0)) continue;
+            const double reach =
+                glm::length(a.center + t * e - ball.center) + (1.0 - t) * a.radius + t * b.radius;
+            if (reach < ball.radius - m_eps &&
+                glm::length(a.center - ball.center) > ball.radius + a.radius + m_eps &&
+                glm::length(b.center - ball.center) > ball.radius + b.radius + m_eps)
+                return true;
+        }
+        return false;
     }
 
     // Surfaces whose bounding spheres come near the segments between the two nodes.
@@ -436,8 +465,9 @@ private:
                 patches(a), [&] { refine(c0, c0); }, [&] { refine(c1, c1); });
             return refine(c0, c1);
         }
-        if (a.leaf() && b.leaf()) return leaf_pair(p, q);
-        if (proven_zero(p, q)) {
+        const bool hidden = hidden_by_ball(p, q);
+        if (a.leaf() && b.leaf() && !hidden) return leaf_pair(p, q);
+        if (hidden || proven_zero(p, q)) {
             ++m_dropped;
             return done(p, q);
         }
@@ -482,6 +512,7 @@ private:
     double m_eps = 0.0;
     const PairProgress& m_progress;
     std::vector<Sample> m_samples, m_coarse;
+    std::vector<std::pair<int, BoundingSphere>> m_balls;  // whole spheres: solids that can hide a pair
     tbb::enumerable_thread_specific<std::vector<Link>> m_links;
     tbb::enumerable_thread_specific<FormFactorStats> m_leaf_stats;
     mutable std::atomic<long long> m_node_pairs{0}, m_kernel_samples{0}, m_dropped{0}, m_leaf_links{0};

@@ -187,5 +187,50 @@ TEST(Hierarchy, SlopesCarryTheFactorAcrossALink) {
     EXPECT_NEAR(total / area, analytic::parallel_rectangles(2.0, 2.0, 1.0), 1e-5);
 }
 
+// Two facing squares with a whole ball between them: with a ball of radius 1 every segment
+// between them passes through it (the exact factor is 0), which a bound on the nodes' balls
+// proves once for the whole pair of surfaces, so no link and no pair of patches joins them;
+// with a ball of radius 0.3 part of each square sees the other, and the links give the dense
+// matrix's entries.
+TEST(Hierarchy, ABallBetweenTwoSquaresHidesThemWhollyOrInPart) {
+    for (const double radius : {1.0, 0.3}) {
+        const Scene scene = parse_scene(
+            "closed: false\nsurfaces:\n"
+            "  - {name: low, type: quad, corners: [[-0.5, -0.5, -2], [0.5, -0.5, -2], [0.5, 0.5, -2], "
+            "[-0.5, 0.5, -2]],\n     patches: [4, 4], reflectance: [0.5, 0.5, 0.5]}\n"
+            "  - {name: high, type: quad, corners: [[-0.5, -0.5, 2], [-0.5, 0.5, 2], [0.5, 0.5, 2], "
+            "[0.5, -0.5, 2]],\n     patches: [4, 4], reflectance: [0.5, 0.5, 0.5]}\n"
+            "  - {name: ball, type: sphere, center: [0, 0, 0], radius: " +
+                std::to_string(radius) + ", patches: [8, 4], reflectance: [0.5, 0.5, 0.5]}\n",
+            "ball-between.yaml");
+        const SceneGeometry g(scene);
+        HierarchyOptions o;
+        o.tolerance = 1e-4;
+        const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
+        long long between = 0;
+        for (const Link& l : h.links)
+            between += h.nodes[static_cast<std::size_t>(l.receiver)].surface +
+                           h.nodes[static_cast<std::size_t>(l.source)].surface ==
+                       1;
+        const FormFactors links = expand_links(h, g);
+        const FormFactors dense = compute_form_factors(g, FormFactorOptions::adaptive(1e-6));
+        double worst = 0.0, most = 0.0;
+        for (int i = 0; i < 16; ++i)
+            for (int j = 16; j < 32; ++j) {
+                worst = std::max(worst, std::abs(links.F(i, j) - dense.F(i, j)));
+                most = std::max(most, dense.F(i, j));
+            }
+        if (radius == 1.0) {
+            EXPECT_EQ(between, 0);
+            EXPECT_GE(h.stats.dropped, 1);
+            EXPECT_LT(most, 1e-12);  // the dense path agrees: nothing passes
+        } else {
+            EXPECT_GT(between, 0);
+            EXPECT_GT(most, 1e-4);
+        }
+        EXPECT_LT(worst, 1e-4) << radius;
+    }
+}
+
 }  // namespace
 }  // namespace radiosa
