@@ -122,8 +122,15 @@ TEST(BadInput, EachCaseHasOneClearMessageAndWritesNothing) {
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: [4000, 4000]\n    reflectance: [0.5, 0.5, 0.5]\n",
                      154),
-         "@:2:5: the scene has more than 20000 patches; the dense form-factor matrix would need 2048000 GB "
-         "or more (use fewer patches)"},
+         "@:2:5: the scene has more than 1000000 patches (use fewer patches)"},
+        {"too many patches for the dense matrix",
+         "surfaces:\n  - {name: a, type: quad, corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], "
+         "patches: [100, 101],\n     reflectance: [0.5, 0.5, 0.5]}\n"
+         "  - {name: b, type: quad, corners: [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]], patches: [100, "
+         "101],\n"
+         "     reflectance: [0.5, 0.5, 0.5]}\n",
+         "@: the scene has 20200 patches; the dense form-factor matrix stops at 20000 (3 GB here): use "
+         "form_factors: {method: hierarchical} or --ff-method hierarchical"},
         {"duplicate surface name",
          std::string("surfaces:\n  - name: a\n    type: quad\n    corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], "
                      "[0, 1, 0]]\n    patches: [1, 1]\n    reflectance: [0.5, 0.5, 0.5]\n  - name: a\n    "

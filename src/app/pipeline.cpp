@@ -100,6 +100,12 @@ Prepared prepare(const std::string& scene_path, const FormFactorRequest& request
     if (p.options.method == FormFactorMethod::Hierarchical) {
         build_links(&p, request, warn);
     } else {
+        if (const int n = p.geometry.patch_count(); n > kMaxDensePatches)
+            throw Error(FileLoc{p.scene.file, 0, 0},
+                        fmt::format("the scene has {} patches; the dense form-factor matrix stops at {} "
+                                    "({:.0f} GB here): use form_factors: {{method: hierarchical}} or "
+                                    "--ff-method hierarchical",
+                                    n, kMaxDensePatches, 8.0 * n * double(n) / 1e9));
         p.ff = obtain_form_factors(p.scene, p.geometry, p.options, request.cache, warn, &p.cache);
         if (const auto target = request.solve_tolerance ? request.solve_tolerance : p.scene.solve.tolerance)
             meet_solve_target(&p, *target, request, warn);

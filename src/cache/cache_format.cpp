@@ -78,7 +78,7 @@ Header read_header(ByteReader& in) {
         throw CacheFileError("unknown compression " + std::to_string(h.compression));
     if (flags > (kFlagErrors | kFlagVisibility | kFlagClosed))
         throw CacheFileError("unknown flags " + std::to_string(flags));
-    if (h.info.patches == 0 || h.info.patches > static_cast<std::uint64_t>(kMaxPatches) ||
+    if (h.info.patches == 0 || h.info.patches > static_cast<std::uint64_t>(kMaxDensePatches) ||
         h.info.surfaces == 0 || h.info.surfaces > h.info.patches)
         throw CacheFileError("implausible patch count " + std::to_string(h.info.patches));
     h.info.layout = h.layout == kLayoutDense ? "dense" : "csr";

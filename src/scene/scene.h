@@ -86,10 +86,13 @@ struct Scene {
     int find_surface(const std::string& name) const;  // -1 when absent
 };
 
-// Limits that keep a typo from asking for an impossible run: the form-factor matrix is
-// dense, N^2 doubles (20,000 patches = 3.2 GB), and the quadrature is O(N^2 p^4).
+// Limits that keep a typo from asking for an impossible run. A scene holds at most
+// kMaxPatches patches (the hierarchical method's links grow about as N log N); the dense
+// form-factor matrix, N^2 doubles and O(N^2 p^4) quadrature, stops at kMaxDensePatches
+// (20,000 patches = 3.2 GB), checked where the method is known (app/pipeline.cpp).
 inline constexpr int kMaxPatchesPerAxis = 4096;
-inline constexpr int kMaxPatches = 20000;
+inline constexpr int kMaxPatches = 1000000;
+inline constexpr int kMaxDensePatches = 20000;
 inline constexpr int kMaxGaussPoints = 64;
 inline constexpr double kMinFormFactorTolerance = 1e-12;  // below this, round-off dominates
 

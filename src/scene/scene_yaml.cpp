@@ -273,9 +273,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& filename) {
             total += static_cast<long long>(s.ns) * s.nt;
             if (total > kMaxPatches)
                 throw Error(s.loc, "the scene has more than " + std::to_string(kMaxPatches) +
-                                       " patches; the dense form-factor matrix would need " +
-                                       std::to_string(total * total * 8 / 1000000000) +
-                                       " GB or more (use fewer patches)");
+                                       " patches (use fewer patches)");
             s.entry = static_cast<int>(i);
             if (!scene.surfaces.empty() && scene.surfaces.back().entry == s.entry &&
                 scene.surfaces.back().name + ".back" == s.name) {

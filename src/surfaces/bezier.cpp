@@ -397,7 +397,7 @@ std::vector<std::array<Vec3, 16>> read_bezier_file(const std::string& path) {
                         std::string(what) + " must be an integer from 1 to " + std::to_string(max));
         return static_cast<int>(v[0]);
     };
-    const int patches = count_of("the number of patches", 20000);  // a scene holds at most 20,000 patches
+    const int patches = count_of("the number of patches", 20000);  // Bézier patches in one file
     std::vector<std::pair<int, std::vector<double>>> index_lines;
     for (int p = 0; p < patches; ++p) index_lines.push_back(take(16, "a patch's 16 point indices"));
     const int points = count_of("the number of points", 1600000);
