@@ -87,7 +87,7 @@ struct Scene {
 };
 
 // Limits that keep a typo from asking for an impossible run. A scene holds at most
-// kMaxPatches patches (the hierarchical method's links grow about as N log N); the dense
+// kMaxPatches patches (the hierarchical method keeps no N x N array); the dense
 // form-factor matrix, N^2 doubles and O(N^2 p^4) quadrature, stops at kMaxDensePatches
 // (20,000 patches = 3.2 GB), checked where the method is known (app/pipeline.cpp).
 inline constexpr int kMaxPatchesPerAxis = 4096;
