@@ -6,9 +6,11 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 
 #include "../tests/cli_run.h"
 #include "../tests/test_scenes.h"
+#include "cache/cache_format.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "surfaces/quad.h"
@@ -256,6 +258,67 @@ TEST(CacheObtain, DefaultDirectoryFollowsTheEnvironment) {
         ::setenv("RADIOSA_CACHE_DIR", keep.c_str(), 1);
     else
         ::unsetenv("RADIOSA_CACHE_DIR");
+}
+
+// A section written in pieces (a large scene's links are gigabytes, never held whole): more
+// than three chunks long, it reads back byte for byte through the streaming reader, with a
+// valid checksum and the stored size in its head; one flipped byte fails the checksum; a
+// producer that stops short is a programming error and leaves no file.
+TEST(CacheFormat, StreamedSectionReadsBackAcrossChunks) {
+    using namespace cache_format;
+    const fs::path dir = test::fresh_dir("radiosa_streamed_section");
+    const fs::path p = dir / "s.bin";
+    const std::uint64_t raw = 3 * kChunk + 12345;
+    const auto byte = [](std::uint64_t i) {  // compressible, and not one repeated run
+        return static_cast<std::uint8_t>(i % 7 == 0 ? (i * 2654435761u) >> 13 : i / 4096);
+    };
+    const auto head = [](std::uint64_t stored) {
+        ByteWriter w;
+        w.raw("HEAD", 4);
+        w.u64(stored);
+        return std::move(w.bytes());
+    };
+    std::uint64_t next = 0;
+    const auto produce = [&](std::uint8_t* dst, std::size_t cap) {
+        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(cap, raw - next));
+        for (std::size_t k = 0; k < n; ++k) dst[k] = byte(next + k);
+        next += n;
+        return n;
+    };
+    commit_streamed(p, raw, head, produce);
+    {
+        const FileSource src(p);
+        EXPECT_NO_THROW(check_checksum(src));
+        const std::vector<std::uint8_t> h = src.read_vector(0, 12);
+        ByteReader in(h.data() + 4, 8);
+        const std::uint64_t stored = in.u64();
+        EXPECT_EQ(src.size(), 12 + stored + 8);
+        EXPECT_LT(stored, raw / 2);  // it was compressed
+        SectionStream s(src, stored, raw, true, "test");
+        std::vector<std::uint8_t> got(65536);
+        std::uint64_t bad = 0;
+        for (std::uint64_t at = 0; at < raw; at += got.size()) {
+            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(got.size(), raw - at));
+            s.read(got.data(), n);
+            for (std::size_t k = 0; k < n; ++k) bad += got[k] != byte(at + k);
+        }
+        EXPECT_EQ(bad, 0u);
+        EXPECT_NO_THROW(s.finish());
+    }
+    {
+        std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(20);
+        const char c = static_cast<char>(f.get());
+        f.seekp(20);
+        f.put(static_cast<char>(c ^ 0x5a));
+    }
+    EXPECT_THROW(check_checksum(FileSource(p)), CacheFileError);
+
+    const fs::path short_file = dir / "short.bin";
+    next = raw - 10;  // ten bytes where raw were announced
+    EXPECT_THROW(commit_streamed(short_file, raw, head, produce), std::logic_error);
+    EXPECT_FALSE(fs::exists(short_file));
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);  // no temporary left
 }
 
 }  // namespace radiosa

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -200,6 +201,86 @@ void commit_file(const std::filesystem::path& path, ByteWriter& w) {
     check_output_path(path);
     AtomicFile file(path);
     file.write_all(w.bytes().data(), w.bytes().size());
+    file.close_fd(true);
+    file.commit();
+}
+
+namespace {
+
+// Writes all of `bytes` at `offset` of fd; throws Error naming `path`.
+void write_at(int fd, const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes,
+              off_t offset) {
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n =
+            ::pwrite(fd, bytes.data() + done, bytes.size() - done, offset + static_cast<off_t>(done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw Error(path.string() + ": write failed: " + std::strerror(n < 0 ? errno : ENOSPC));
+        done += static_cast<std::size_t>(n);
+    }
+}
+
+// The XXH3-64 of a file's bytes, read back in chunks.
+std::uint64_t file_checksum(const std::filesystem::path& temp, const std::filesystem::path& final_path) {
+    const int fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    if (fd < 0) throw Error(final_path.string() + ": cannot read back: " + std::strerror(errno));
+    std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), XXH3_freeState);
+    XXH3_64bits_reset(state.get());
+    std::vector<std::uint8_t> buf(kChunk);
+    for (;;) {
+        const ssize_t n = ::read(fd, buf.data(), buf.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            const int saved = errno;
+            ::close(fd);
+            throw Error(final_path.string() + ": cannot read back: " + std::strerror(saved));
+        }
+        if (n == 0) break;
+        XXH3_64bits_update(state.get(), buf.data(), static_cast<std::size_t>(n));
+    }
+    ::close(fd);
+    return XXH3_64bits_digest(state.get());
+}
+
+}  // namespace
+
+void commit_streamed(const std::filesystem::path& path, std::uint64_t raw,
+                     const std::function<std::vector<std::uint8_t>(std::uint64_t stored)>& head,
+                     const std::function<std::size_t(std::uint8_t* dst, std::size_t cap)>& produce) {
+    check_output_path(path);
+    AtomicFile file(path);
+    const std::size_t head_size = head(0).size();
+    if (::lseek(file.fd(), static_cast<off_t>(head_size), SEEK_SET) < 0)
+        throw Error(path.string() + ": seek failed: " + std::strerror(errno));
+    std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> cctx(ZSTD_createCCtx(), ZSTD_freeCCtx);
+    if (!cctx) throw Error(path.string() + ": zstd has no memory for a compression context");
+    ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_compressionLevel, 3);
+    ZSTD_CCtx_setPledgedSrcSize(cctx.get(), raw);
+    std::vector<std::uint8_t> in(kChunk), out(ZSTD_CStreamOutSize());
+    std::uint64_t fed = 0, stored = 0;
+    for (bool end = false; !end;) {
+        const std::size_t n = produce(in.data(), in.size());
+        fed += n;
+        end = n == 0;
+        if (fed > raw || (end && fed != raw))
+            throw std::logic_error("commit_streamed: the section was not its announced size");
+        ZSTD_inBuffer ib{in.data(), n, 0};
+        for (bool flushed = false; !flushed;) {
+            ZSTD_outBuffer ob{out.data(), out.size(), 0};
+            const std::size_t left =
+                ZSTD_compressStream2(cctx.get(), &ob, &ib, end ? ZSTD_e_end : ZSTD_e_continue);
+            if (ZSTD_isError(left)) throw Error(path.string() + ": zstd: " + ZSTD_getErrorName(left));
+            file.write_all(out.data(), ob.pos);
+            stored += ob.pos;
+            flushed = end ? left == 0 : ib.pos == ib.size;
+        }
+    }
+    const std::vector<std::uint8_t> bytes = head(stored);
+    if (bytes.size() != head_size) throw std::logic_error("commit_streamed: the head changed size");
+    write_at(file.fd(), path, bytes, 0);
+    ByteWriter trailer;
+    trailer.u64(file_checksum(file.temp_path(), path));
+    file.write_all(trailer.bytes().data(), trailer.bytes().size());
     file.close_fd(true);
     file.commit();
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -211,6 +212,16 @@ std::vector<std::uint8_t> pack_section(std::vector<std::uint8_t> raw, bool* zstd
 // Appends the XXH3-64 checksum of everything written and writes the file atomically (exclusive
 // temporary, fsync, rename). Throws Error when it cannot be written.
 void commit_file(const std::filesystem::path& path, ByteWriter& w);
+// Writes a file whose last section is zstd-compressed as it is produced, holding a chunk of it
+// in memory rather than all of it (a large scene's links are gigabytes): `head(stored)` gives
+// the bytes before the section (header and table) for the section's stored size, and must give
+// as many bytes for any size; `produce(dst, cap)` fills up to cap bytes of the uncompressed
+// section and returns how many, 0 at its end, `raw` bytes in all. Then the XXH3-64 checksum of
+// everything before it, read back; atomic like commit_file. Throws Error when it cannot be
+// written.
+void commit_streamed(const std::filesystem::path& path, std::uint64_t raw,
+                     const std::function<std::vector<std::uint8_t>(std::uint64_t stored)>& head,
+                     const std::function<std::size_t(std::uint8_t* dst, std::size_t cap)>& produce);
 // The first kHeadRead bytes of a source, parsed by `parse` (a ByteReader running out is a
 // truncated file).
 template <class F>

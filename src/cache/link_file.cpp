@@ -2,6 +2,7 @@
 // verified without one. The checks mirror the matrix file's (cache_file.cpp, cache_verify.cpp).
 #include "cache/link_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -136,15 +137,20 @@ void read_links(SectionStream& s, std::uint64_t nodes, std::uint64_t count, std:
     }
 }
 
-std::vector<std::uint8_t> link_section(const Hierarchy& h) {
+// Links [*next, ...) serialized into dst while they fit: two u32 and six f64 each.
+std::size_t link_bytes(const Hierarchy& h, std::size_t* next, std::uint8_t* dst, std::size_t cap) {
     ByteWriter m;
-    m.bytes().reserve(h.links.size() * kLinkBytes);
-    for (const Link& l : h.links) {
+    const std::size_t count = std::min(cap / kLinkBytes, h.links.size() - *next);
+    m.bytes().reserve(count * kLinkBytes);
+    for (std::size_t i = *next; i < *next + count; ++i) {
+        const Link& l = h.links[i];
         m.u32(static_cast<std::uint32_t>(l.receiver));
         m.u32(static_cast<std::uint32_t>(l.source));
         for (const double v : {l.f, l.error, l.gs, l.gt, l.cs, l.ct}) m.f64(v);
     }
-    return std::move(m.bytes());
+    *next += count;
+    std::memcpy(dst, m.bytes().data(), m.bytes().size());
+    return m.bytes().size();
 }
 
 void write_link_header(ByteWriter& w, const CacheKey& key, const std::string& scene_name, bool closed,
@@ -202,16 +208,21 @@ Hierarchy read_source(const Source& src, const CacheExpectation& expect, CacheFi
     check_link_sizes(h, src.size());
     Hierarchy hier = hierarchy_nodes(*expect.geometry, hierarchy_options(expect.options));
     if (h.info.nodes != hier.nodes.size()) throw table_mismatch("the node count differs");
-    const std::vector<std::uint8_t> bytes = read_checked(src);
-    ByteReader in(bytes.data(), bytes.size() - 8);
-    in.take(h.length);
+    // Streamed, never the whole file in memory beside its links: the checksum first, then the
+    // table, then the links chunk by chunk.
+    check_checksum(src);
+    const std::vector<std::uint8_t> table =
+        src.read_vector(h.length, static_cast<std::size_t>(src.size() - 8 - h.stored - h.length));
+    ByteReader in(table.data(), table.size());
     std::vector<double> areas(h.info.patches);
     read_patch_table(in, h, *expect.geometry, &areas, &hier.leaf_stats);
     read_hierarchy_counters(in, &hier.stats);
-    if (in.remaining() != h.stored) throw CacheFileError("link section does not start where the table ends");
-    const MemorySource whole(bytes);
-    SectionStream s(whole, h.stored, h.raw, h.compression == kCompressZstd, "link");
-    hier.links.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(h.info.links, 1u << 20)));
+    if (in.remaining() != 0) throw CacheFileError("link section does not start where the table ends");
+    SectionStream s(src, h.stored, h.raw, h.compression == kCompressZstd, "link");
+    // Exactly the links, held once (no doubling); a damaged count reserves no more than 64 times
+    // the stored bytes hold (zstd packs links about 2 to 3 times) before the reading stops it.
+    hier.links.reserve(static_cast<std::size_t>(
+        std::min<std::uint64_t>(h.info.links, h.stored * 64 / kLinkBytes + (1u << 20))));
     read_links(s, h.info.nodes, h.info.links, &hier.links);
     s.finish();
     index_links(&hier);
@@ -263,22 +274,24 @@ CacheKey hierarchy_key(const Scene& scene, const FormFactorOptions& options) {
 
 void write_link_file(const fs::path& path, const CacheKey& key, const std::string& scene_name, bool closed,
                      const SceneGeometry& geometry, const FormFactorOptions& options, const Hierarchy& h) {
-    std::vector<std::uint8_t> raw = link_section(h);
-    const std::uint64_t raw_size = raw.size();
-    bool zstd = false;
-    const std::vector<std::uint8_t> section = pack_section(std::move(raw), &zstd);
-
-    ByteWriter w;
-    write_link_header(w, key, scene_name, closed, geometry, options, h);
-    w.u32(zstd ? kCompressZstd : kCompressNone);
-    w.u64(section.size());
-    w.u64(raw_size);
-    write_table(w, geometry, h.leaf_stats);
-    for (const long long v :
-         {h.stats.leaf_links, h.stats.node_pairs, h.stats.kernel_samples, h.stats.dropped})
-        w.i64(v);
-    w.raw(section.data(), section.size());
-    commit_file(path, w);
+    // Streamed: a large scene's links are gigabytes, and a whole uncompressed copy of them (or
+    // even a compressed one) beside the links themselves would set the run's peak memory.
+    const std::uint64_t raw_size = h.links.size() * kLinkBytes;
+    const auto head = [&](std::uint64_t stored) {
+        ByteWriter w;
+        write_link_header(w, key, scene_name, closed, geometry, options, h);
+        w.u32(kCompressZstd);
+        w.u64(stored);
+        w.u64(raw_size);
+        write_table(w, geometry, h.leaf_stats);
+        for (const long long v :
+             {h.stats.leaf_links, h.stats.node_pairs, h.stats.kernel_samples, h.stats.dropped})
+            w.i64(v);
+        return std::move(w.bytes());
+    };
+    std::size_t next = 0;
+    commit_streamed(path, raw_size, head,
+                    [&](std::uint8_t* dst, std::size_t cap) { return link_bytes(h, &next, dst, cap); });
 }
 
 CacheFileInfo read_link_info(const fs::path& path) {
