@@ -193,16 +193,19 @@ TEST(HierarchicalCli, CachedLinksServeTheNextRun) {
     fs::remove_all(d);
 }
 
-// A relighting sequence over links: every new light is a warm-started link solve (`iterated`),
-// fewer sweeps than the cold first frame, and every frame is the dense sequence's frame.
-TEST(HierarchicalCli, RelitSequenceIsWarmStartedOverLinks) {
+// A relighting sequence over links. The seed scene's only light (face3) ramps: every frame is
+// a multiple of the first frame's emission per channel, so it is `combined` from it (no sweep).
+// Then face6 ramps up: its first frame is a new direction, a warm-started link solve
+// (`iterated`, fewer sweeps than the cold first frame), and the frames after it combine the
+// two. Every frame is the dense sequence's frame.
+TEST(HierarchicalCli, RelitSequenceIsWarmStartedOrCombinedOverLinks) {
     const fs::path d = fresh_dir("radiosa_hier_sequence");
     const fs::path seq = d / "dim.yaml";
     std::ofstream(seq)
         << "scene: " << kScene
-        << "\nfps: 4\nduration_s: 1\ncamera:\n  keys:\n    - {time_s: 0, distance: 6, theta_deg: 0, "
+        << "\nfps: 4\nduration_s: 2\ncamera:\n  keys:\n    - {time_s: 0, distance: 6, theta_deg: 0, "
            "phi_deg: 90, fov_deg: 50}\nevents:\n  - {time_s: [0, 1], surface: face3, emission: [1.2, "
-           "1.1, 1.0]}\n";
+           "1.1, 1.0]}\n  - {time_s: [1, 2], surface: face6, emission: [0.5, 0.2, 0.1]}\n";
     const auto render = [&](const std::string& tag, std::vector<std::string> extra) {
         fs::create_directories(d / tag);
         std::vector<std::string> args = {"render",
@@ -227,15 +230,15 @@ TEST(HierarchicalCli, RelitSequenceIsWarmStartedOverLinks) {
     const nlohmann::json dense = render("dense", {});
     const nlohmann::json links = render("links", {"--ff-method", "hierarchical", "--ff-tolerance", "1e-5"});
     EXPECT_EQ(links["solve"]["method"], "links");
-    ASSERT_EQ(links["frames"].size(), 4u);
+    ASSERT_EQ(links["frames"].size(), 8u);
     const long long cold = links["frames"][0]["sweeps"];
     EXPECT_GT(cold, 10);
-    for (std::size_t f = 0; f < 4; ++f) {
+    for (std::size_t f = 0; f < 8; ++f) {
         const nlohmann::json& fr = links["frames"][f];
-        EXPECT_EQ(fr["solve"], "iterated") << f;
-        if (f > 0) {
-            EXPECT_LT(fr["sweeps"].get<long long>(), cold) << f;
-        }
+        const bool solved = f == 0 || f == 5;  // face6's first frame above 0 is at t = 1.25 s
+        EXPECT_EQ(fr["solve"], solved ? "iterated" : "combined") << f;
+        if (f == 5) EXPECT_LT(fr["sweeps"].get<long long>(), cold);
+        if (!solved) EXPECT_EQ(fr["sweeps"], 0) << f;
         EXPECT_EQ(fr["entries_total"], links["hierarchy"]["links"]);
         const std::string name = fmt::format("{:02d}.exr", f);
         const auto [top, diff] = image_difference(d / "dense" / name, d / "links" / name);

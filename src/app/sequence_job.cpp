@@ -161,6 +161,7 @@ public:
           m_states(p, plan, seq, job.form_factors, job.warn),
           m_solvers(plan.reflectances.size()),
           m_solutions(plan.solutions.size()),
+          m_estimates(plan.solutions.size(), Rgb(0.0)),
           m_last_of_set(plan.reflectances.size(), -1) {}
 
     // Every factorisation a geometry state needs, before its first frame is written: a system
@@ -323,6 +324,16 @@ private:
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
     }
+    // Radiosity is linear in emission: a Combined solution is its terms' solutions, weighted per
+    // channel (each term was solved, for the same reflectance, at an earlier frame).
+    void combine(const FramePlan& fp) {
+        std::vector<Rgb> B(m_plan.solutions[fp.solution].E.size(), Rgb(0.0));
+        for (const Combination& t : m_plan.combinations[fp.solution]) {
+            const std::vector<Rgb>& Bt = m_solutions[static_cast<std::size_t>(t.solution)];
+            for (std::size_t i = 0; i < B.size(); ++i) B[i] += t.weight * Bt[i];
+        }
+        m_solutions[fp.solution] = std::move(B);
+    }
     void read_sensors(const FramePlan& fp) {
         m_r->sensor_irradiance.resize(m_plan.solutions.size());
         std::vector<Rgb>& readings = m_r->sensor_irradiance[fp.solution];
@@ -337,12 +348,16 @@ private:
         const FramePlan& fp = rec.plan;
         const Stopwatch clock;
         const Materials mat{m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E};
-        LinkSolution s = solve_links(*m_p.hierarchy, mat.rho, mat.E, {}, warm_start(fp));
-        m_solutions[fp.solution] = std::move(s.B);
+        if (fp.solve == SolveAction::Combined) {
+            combine(fp);
+        } else {
+            LinkSolution s = solve_links(*m_p.hierarchy, mat.rho, mat.E, {}, warm_start(fp));
+            m_solutions[fp.solution] = std::move(s.B);
+            rec.sweeps = s.sweeps;
+            m_r->channel_solves += 3;
+        }
         m_last_of_set[fp.reflectance_set] = fp.solution;
         m_last_solved = fp.solution;
-        rec.sweeps = s.sweeps;
-        m_r->channel_solves += 3;
         rec.solve_s += clock.seconds();
         read_sensors(fp);
         // Diagnostics, not timed as solving.
@@ -350,7 +365,14 @@ private:
         m_r->residual = std::max(m_r->residual, d.residual);
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
-        const Rgb e = link_error_estimate(*m_p.hierarchy, mat, m_solutions[fp.solution]);
+        // A combination's error is at most its terms' errors times their weights: no extra solve.
+        Rgb e(0.0);
+        if (fp.solve == SolveAction::Combined)
+            for (const Combination& t : m_plan.combinations[fp.solution])
+                e += glm::abs(t.weight) * m_estimates[static_cast<std::size_t>(t.solution)];
+        else
+            e = link_error_estimate(*m_p.hierarchy, mat, m_solutions[fp.solution]);
+        m_estimates[fp.solution] = e;
         if (!m_r->radiosity_error_estimate) m_r->radiosity_error_estimate = Rgb(0.0);
         for (int c = 0; c < 3; ++c)
             (*m_r->radiosity_error_estimate)[c] = std::max((*m_r->radiosity_error_estimate)[c], e[c]);
@@ -394,6 +416,7 @@ private:
     std::vector<std::unique_ptr<RadiositySolver>> m_solvers;  // per reflectance set, while its state is held
     std::string m_last_warning;
     std::vector<std::vector<Rgb>> m_solutions;
+    std::vector<Rgb> m_estimates;  // over links: each solution's radiosity error estimate
     int m_last_solved = -1;
     std::vector<int> m_last_of_set;  // per reflectance set, the solution solved for it last (-1: none)
     std::unique_ptr<NodeRadiosity> m_nodes;
@@ -502,8 +525,8 @@ SequenceReport run_sequence_job(const SequenceJob& job) {
     if (!job.solver_given && seq->has_motion() && p.geometry.patch_count() > kMovingIterativeFromPatches)
         r.solver = SolverMethod::GaussSeidel;
     // Over links every solve is an iteration, warm-started from the last.
-    const Plan plan =
-        plan_sequence(*seq, patch_materials(p.scene), p.geometry, is_iterative(r.solver) || p.hierarchy);
+    const Plan plan = plan_sequence(*seq, patch_materials(p.scene), p.geometry,
+                                    is_iterative(r.solver) || p.hierarchy, p.hierarchy.has_value());
     r.fps = seq->fps;
     r.frames.resize(plan.frames.size());
     for (std::size_t f = 0; f < r.frames.size(); ++f) r.frames[f].plan = plan.frames[f];

@@ -12,9 +12,13 @@
 
 namespace radiosa {
 
-// Iterated: an iterative solver's run (--solver jacobi | gauss-seidel | southwell), warm-started
-// from the last solution with the same reflectance.
-enum class SolveAction { Factorised, Substituted, Iterated, Reused };
+// Iterated: an iterative solver's run (--solver jacobi | gauss-seidel | southwell, and every
+// solve over hierarchical links), warm-started from the last solution with the same reflectance.
+// Combined: over hierarchical links, an emission that is a linear combination of emissions
+// already iterated with the same reflectance (a light ramping between two settings, lights
+// dimmed together): radiosity is linear in emission, so B = sum_k w_k B_k per channel, O(N)
+// per term and no sweep.
+enum class SolveAction { Factorised, Substituted, Iterated, Combined, Reused };
 enum class RenderAction { Rendered, Copied };
 const char* solve_action_name(SolveAction a);
 const char* render_action_name(RenderAction a);
@@ -30,6 +34,12 @@ struct FramePlan {
     RenderAction render = RenderAction::Rendered;
 };
 
+// One term of a Combined solution: the weight, per channel, of an earlier solution's radiosity.
+struct Combination {
+    int solution = 0;
+    Rgb weight{0.0};
+};
+
 struct Plan {
     std::vector<FramePlan> frames;
     // Distinct geometry states in order of first use: every surface's displacement from the
@@ -41,6 +51,9 @@ struct Plan {
     std::vector<int> reflectance_geometry;
     std::vector<Materials> solutions;  // distinct (set, emission), in order of first use
     std::vector<int> solution_set;     // per solution, its reflectance set
+    // Per solution: its terms when it is Combined (each an Iterated solution of the same set,
+    // first used earlier), else empty.
+    std::vector<std::vector<Combination>> combinations;
     int factorisations() const { return static_cast<int>(reflectances.size()); }
     int substitutions() const { return static_cast<int>(solutions.size()); }
     bool moves() const { return geometries.size() > 1 || !is_identity(geometries[0]); }
@@ -49,8 +62,16 @@ struct Plan {
 };
 
 // `iterative`: the solver iterates, so every new state is Iterated (nothing is factorised).
+// `combine` (with `iterative`: the solve over hierarchical links) makes a new state Combined when
+// its emission, in every channel, is within 1e-12 (relative, 2-norm) of the span of at most
+// kMaxCombinationTerms emissions iterated before with the same reflectance, and the weights
+// amplify their solutions' errors at most kMaxCombinationGain times. (A dense iterative solve
+// keeps its residual target frame by frame instead: the weights would scale its residual.)
 Plan plan_sequence(const Sequence& sequence, const Materials& base, const SceneGeometry& geometry,
-                   bool iterative = false);
+                   bool iterative = false, bool combine = false);
+
+inline constexpr int kMaxCombinationTerms = 8;
+inline constexpr double kMaxCombinationGain = 1e4;
 
 bool same_camera(const CameraDesc& a, const CameraDesc& b);
 

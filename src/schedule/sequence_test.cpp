@@ -196,11 +196,11 @@ struct Planned {
     std::unique_ptr<SceneGeometry> geo;
     Plan plan;
 };
-Planned plan_of(const std::string& body) {
+Planned plan_of(const std::string& body, bool iterative = false, bool combine = false) {
     Planned p{load_scene(kSeed), nullptr, {}};
     p.geo = std::make_unique<SceneGeometry>(p.scene);
     const Sequence s = parse_sequence(body, "s.yaml", &p.scene);
-    p.plan = plan_sequence(s, patch_materials(p.scene), *p.geo);
+    p.plan = plan_sequence(s, patch_materials(p.scene), *p.geo, iterative, combine);
     return p;
 }
 std::string actions(const Plan& plan) {
@@ -326,6 +326,56 @@ events:
     EXPECT_EQ(p.plan.factorisations(), 1);
     EXPECT_EQ(p.plan.substitutions(), 4);
     EXPECT_EQ(actions(p.plan), "fr rc sr sr sr rc rc rc ");
+}
+
+// Over links, a light's emission that is a combination of emissions already iterated for the
+// same reflectance is `combined`: the same sequence as above, where face3 (the
+// only light) dims while a patch of face6 brightens. Frame 2 (t = 0.5) adds a direction, and
+// each later ramp frame is a combination of frames 0 and 2 whose weights give its emission to
+// rounding, channel by channel. A colour change starts a new set: its first emission is solved.
+TEST(Scheduler, IterativeSolvesCombineEmissionsAlreadySolved) {
+    const std::string body = R"(fps: 4
+duration_s: 2
+camera:
+  keys:
+    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 90}
+events:
+  - {time_s: [0.25, 1], surface: face3, emission: [0, 0, 0]}
+  - {time_s: [0.25, 1], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
+  - {time_s: 1.5, surface: sphere, reflectance: [1, 0.5, 0.25]}
+)";
+    const Planned p = plan_of(body, true, true);
+    EXPECT_EQ(actions(p.plan), "ir rc ir cr cr rc ir rc ");
+    ASSERT_EQ(p.plan.combinations.size(), p.plan.solutions.size());
+    int combined = 0;
+    for (std::size_t k = 0; k < p.plan.solutions.size(); ++k) {
+        const auto& terms = p.plan.combinations[k];
+        if (terms.empty()) continue;
+        ++combined;
+        const std::vector<Rgb>& E = p.plan.solutions[k].E;
+        ASSERT_EQ(terms.size(), 2u) << k;
+        for (const Combination& t : terms) {
+            EXPECT_LT(t.solution, static_cast<int>(k));
+            EXPECT_EQ(p.plan.solution_set[static_cast<std::size_t>(t.solution)], p.plan.solution_set[k]);
+            EXPECT_TRUE(p.plan.combinations[static_cast<std::size_t>(t.solution)].empty());
+        }
+        double worst = 0.0, top = 0.0;
+        for (std::size_t i = 0; i < E.size(); ++i) {
+            Rgb sum(0.0);
+            for (const Combination& t : terms)
+                sum += t.weight * p.plan.solutions[static_cast<std::size_t>(t.solution)].E[i];
+            for (int c = 0; c < 3; ++c) {
+                worst = std::max(worst, std::abs(sum[c] - E[i][c]));
+                top = std::max(top, std::abs(E[i][c]));
+            }
+        }
+        EXPECT_LE(worst, 1e-13 * top) << k;
+    }
+    EXPECT_EQ(combined, 2);
+    // A direct solver never combines (its substitution is already cheap), nor a dense
+    // iterative one (its residual target holds frame by frame).
+    EXPECT_EQ(actions(plan_of(body).plan), "fr rc sr sr sr rc fr rc ");
+    EXPECT_EQ(actions(plan_of(body, true).plan), "ir rc ir ir ir rc ir rc ");
 }
 
 TEST(Scheduler, ColourChangeRefactorises) {
