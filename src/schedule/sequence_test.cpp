@@ -405,6 +405,18 @@ TEST(Scheduler, PaperSequenceABC) {
     EXPECT_NEAR(plan.frames[2].camera.eye.x, 6.0, 1e-12);
 }
 
+// The shipped relighting of the 20,000-patch room plans as its header says: over links, two
+// iterated frames (the first, and face 6's first lit one), every other frame combined.
+TEST(Scheduler, ShippedRelightingOfThe20kRoomCombines) {
+    const std::string path = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-20k-relight.yaml";
+    Planned p{load_scene(sequence_scene_path(path)), nullptr, {}};
+    EXPECT_EQ(p.scene.patch_count(), 20198);
+    p.geo = std::make_unique<SceneGeometry>(p.scene);
+    const Sequence s = load_sequence(path, &p.scene);
+    const Plan plan = plan_sequence(s, patch_materials(p.scene), *p.geo, true, true);
+    EXPECT_EQ(actions(plan), "ir cr cr cr cr ir cr cr ");
+}
+
 }  // namespace radiosa
 
 namespace radiosa {
