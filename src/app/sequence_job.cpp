@@ -162,6 +162,7 @@ public:
           m_solvers(plan.reflectances.size()),
           m_solutions(plan.solutions.size()),
           m_estimates(plan.solutions.size(), Rgb(0.0)),
+          m_irradiance(plan.solutions.size()),
           m_last_of_set(plan.reflectances.size(), -1) {}
 
     // Every factorisation a geometry state needs, before its first frame is written: a system
@@ -324,6 +325,13 @@ private:
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
     }
+    // Whether a later Combined solution takes solution k as a term.
+    bool is_term(int k) const {
+        for (const auto& terms : m_plan.combinations)
+            for (const Combination& t : terms)
+                if (t.solution == k) return true;
+        return false;
+    }
     // Radiosity is linear in emission: a Combined solution is its terms' solutions, weighted per
     // channel (each term was solved, for the same reflectance, at an earlier frame).
     void combine(const FramePlan& fp) {
@@ -361,7 +369,19 @@ private:
         rec.solve_s += clock.seconds();
         read_sensors(fp);
         // Diagnostics, not timed as solving.
-        const SolveDiagnostics d = diagnose_links(*m_p.hierarchy, mat, m_solutions[fp.solution]);
+        // Irradiance is linear in radiosity too: a combination's is its terms', combined (kept
+        // for the iterated solutions), so its diagnostics need no gather over the links.
+        std::vector<Rgb> H;
+        if (fp.solve == SolveAction::Combined) {
+            H.assign(m_solutions[fp.solution].size(), Rgb(0.0));
+            for (const Combination& t : m_plan.combinations[fp.solution])
+                for (std::size_t i = 0; i < H.size(); ++i)
+                    H[i] += t.weight * m_irradiance[static_cast<std::size_t>(t.solution)][i];
+        } else {
+            H = m_p.hierarchy->irradiance(m_solutions[fp.solution]);
+        }
+        const SolveDiagnostics d = diagnose_links(*m_p.hierarchy, mat, m_solutions[fp.solution], H);
+        if (is_term(fp.solution)) m_irradiance[fp.solution] = std::move(H);
         m_r->residual = std::max(m_r->residual, d.residual);
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
@@ -416,7 +436,8 @@ private:
     std::vector<std::unique_ptr<RadiositySolver>> m_solvers;  // per reflectance set, while its state is held
     std::string m_last_warning;
     std::vector<std::vector<Rgb>> m_solutions;
-    std::vector<Rgb> m_estimates;  // over links: each solution's radiosity error estimate
+    std::vector<Rgb> m_estimates;                // over links: each solution's radiosity error estimate
+    std::vector<std::vector<Rgb>> m_irradiance;  // over links: the irradiance of each term of a combination
     int m_last_solved = -1;
     std::vector<int> m_last_of_set;  // per reflectance set, the solution solved for it last (-1: none)
     std::unique_ptr<NodeRadiosity> m_nodes;

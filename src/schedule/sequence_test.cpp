@@ -312,8 +312,8 @@ camera:
     EXPECT_EQ(actions(still.plan), "fr rc rc ");
 }
 
-TEST(Scheduler, LightOnlySequenceFactorisesOnceAndSubstitutes) {
-    const Planned p = plan_of(R"(fps: 4
+// The seed room's light (face3) dims while a patch of face6 brightens, from 0.25 s to 1 s.
+const char* const kLightRamps = R"(fps: 4
 duration_s: 2
 camera:
   keys:
@@ -321,7 +321,10 @@ camera:
 events:
   - {time_s: [0.25, 1], surface: face3, emission: [0, 0, 0]}
   - {time_s: [0.25, 1], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
-)");
+)";
+
+TEST(Scheduler, LightOnlySequenceFactorisesOnceAndSubstitutes) {
+    const Planned p = plan_of(kLightRamps);
     // Frames at 0, .25 (ramp start, unchanged), .5, .75, 1 (end), then the light rests.
     EXPECT_EQ(p.plan.factorisations(), 1);
     EXPECT_EQ(p.plan.substitutions(), 4);
@@ -329,21 +332,13 @@ events:
 }
 
 // Over links, a light's emission that is a combination of emissions already iterated for the
-// same reflectance is `combined`: the same sequence as above, where face3 (the
-// only light) dims while a patch of face6 brightens. Frame 2 (t = 0.5) adds a direction, and
-// each later ramp frame is a combination of frames 0 and 2 whose weights give its emission to
-// rounding, channel by channel. A colour change starts a new set: its first emission is solved.
+// same reflectance is `combined`: the same ramps as above, then a colour change. Frame 2 (t =
+// 0.5) adds a direction, and each later ramp frame is a combination of frames 0 and 2 whose
+// weights give its emission to rounding, channel by channel. A colour change starts a new
+// set: its first emission is solved.
 TEST(Scheduler, IterativeSolvesCombineEmissionsAlreadySolved) {
-    const std::string body = R"(fps: 4
-duration_s: 2
-camera:
-  keys:
-    - {time_s: 0, distance: 6, theta_deg: 0, phi_deg: 90}
-events:
-  - {time_s: [0.25, 1], surface: face3, emission: [0, 0, 0]}
-  - {time_s: [0.25, 1], surface: face6, patch: [1, 1], emission: [7, 7, 7]}
-  - {time_s: 1.5, surface: sphere, reflectance: [1, 0.5, 0.25]}
-)";
+    const std::string body =
+        std::string(kLightRamps) + "  - {time_s: 1.5, surface: sphere, reflectance: [1, 0.5, 0.25]}\n";
     const Planned p = plan_of(body, true, true);
     EXPECT_EQ(actions(p.plan), "ir rc ir cr cr rc ir rc ");
     ASSERT_EQ(p.plan.combinations.size(), p.plan.solutions.size());

@@ -24,10 +24,15 @@ std::vector<Rgb> pull_max(const Hierarchy& h, const std::vector<Rgb>& B) {
 }  // namespace
 
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B) {
+    return diagnose_links(h, m, B, h.irradiance(B));
+}
+
+SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
+                                const std::vector<Rgb>& H) {
     std::vector<double> area;
     area.reserve(B.size());
     for (const int leaf : h.leaf_of_patch) area.push_back(h.nodes[static_cast<std::size_t>(leaf)].area);
-    return diagnose_irradiance(area, m, B, h.irradiance(B));
+    return diagnose_irradiance(area, m, B, H);
 }
 
 Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,

@@ -33,6 +33,10 @@ LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const 
 
 // Residual ||B - E - rho H|| / ||E|| and energy balance, as diagnose_solution does for a matrix.
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B);
+// The same from the irradiance H = h.irradiance(B) already at hand (for a combination of
+// solutions, the same combination of their irradiances: no gather over the links).
+SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
+                                const std::vector<Rgb>& H);
 
 // An estimate (not a bound) of max_i |B_i - B*_i| / max_i B_i per channel, B* the radiosity with
 // exact coupling: every link's estimate times the largest radiosity under its source node, pushed
