@@ -336,7 +336,7 @@ TEST(Scheduler, LightOnlySequenceFactorisesOnceAndSubstitutes) {
 // 0.5) adds a direction, and each later ramp frame is a combination of frames 0 and 2 whose
 // weights give its emission to rounding, channel by channel. A colour change starts a new
 // set: its first emission is solved.
-TEST(Scheduler, IterativeSolvesCombineEmissionsAlreadySolved) {
+TEST(Scheduler, SolvesOverLinksCombineEmissionsAlreadySolved) {
     const std::string body =
         std::string(kLightRamps) + "  - {time_s: 1.5, surface: sphere, reflectance: [1, 0.5, 0.25]}\n";
     const Planned p = plan_of(body, true, true);
