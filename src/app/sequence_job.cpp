@@ -332,15 +332,15 @@ private:
                 if (t.solution == k) return true;
         return false;
     }
-    // Radiosity is linear in emission: a Combined solution is its terms' solutions, weighted per
-    // channel (each term was solved, for the same reflectance, at an earlier frame).
-    void combine(const FramePlan& fp) {
-        std::vector<Rgb> B(m_plan.solutions[fp.solution].E.size(), Rgb(0.0));
+    // A Combined solution's terms applied to per-solution vectors (radiosities or irradiances),
+    // weighted per channel: both are linear in emission.
+    std::vector<Rgb> weighted(const FramePlan& fp, const std::vector<std::vector<Rgb>>& of) const {
+        std::vector<Rgb> out(m_plan.solutions[fp.solution].E.size(), Rgb(0.0));
         for (const Combination& t : m_plan.combinations[fp.solution]) {
-            const std::vector<Rgb>& Bt = m_solutions[static_cast<std::size_t>(t.solution)];
-            for (std::size_t i = 0; i < B.size(); ++i) B[i] += t.weight * Bt[i];
+            const std::vector<Rgb>& v = of[static_cast<std::size_t>(t.solution)];
+            for (std::size_t i = 0; i < out.size(); ++i) out[i] += t.weight * v[i];
         }
-        m_solutions[fp.solution] = std::move(B);
+        return out;
     }
     void read_sensors(const FramePlan& fp) {
         m_r->sensor_irradiance.resize(m_plan.solutions.size());
@@ -357,7 +357,7 @@ private:
         const Stopwatch clock;
         const Materials mat{m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E};
         if (fp.solve == SolveAction::Combined) {
-            combine(fp);
+            m_solutions[fp.solution] = weighted(fp, m_solutions);
         } else {
             LinkSolution s = solve_links(*m_p.hierarchy, mat.rho, mat.E, {}, warm_start(fp));
             m_solutions[fp.solution] = std::move(s.B);
@@ -371,15 +371,9 @@ private:
         // Diagnostics, not timed as solving.
         // Irradiance is linear in radiosity too: a combination's is its terms', combined (kept
         // for the iterated solutions), so its diagnostics need no gather over the links.
-        std::vector<Rgb> H;
-        if (fp.solve == SolveAction::Combined) {
-            H.assign(m_solutions[fp.solution].size(), Rgb(0.0));
-            for (const Combination& t : m_plan.combinations[fp.solution])
-                for (std::size_t i = 0; i < H.size(); ++i)
-                    H[i] += t.weight * m_irradiance[static_cast<std::size_t>(t.solution)][i];
-        } else {
-            H = m_p.hierarchy->irradiance(m_solutions[fp.solution]);
-        }
+        std::vector<Rgb> H = fp.solve == SolveAction::Combined
+                                 ? weighted(fp, m_irradiance)
+                                 : m_p.hierarchy->irradiance(m_solutions[fp.solution]);
         const SolveDiagnostics d = diagnose_links(*m_p.hierarchy, mat, m_solutions[fp.solution], H);
         if (is_term(fp.solution)) m_irradiance[fp.solution] = std::move(H);
         m_r->residual = std::max(m_r->residual, d.residual);
