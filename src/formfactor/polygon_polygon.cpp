@@ -49,22 +49,23 @@ double inner(const Vec3& p, const Edge& e, double log_rho, double* mag) {
 }
 
 // The integral over edge a0 -> a0 + len * d of inner(., e) by adaptive Gauss-Kronrod, bisecting
-// the interval with the largest |K15 - G7| until the sum is below the rounding level of the
-// terms (or a cap of intervals is hit, which the returned error then shows).
-PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const Edge& e, double log_rho) {
+// the interval with the largest |K15 - G7| until the sum is below `tol` or the rounding level of
+// the terms (or a cap of intervals is hit, which the returned error then shows).
+PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const Edge& e, double log_rho,
+                                double tol) {
     PolygonPair out;
     double mag = 0.0;
     auto rule = [&](double a, double b) {
         const double c = 0.5 * (a + b), h = 0.5 * (b - a);
-        double k = kKronrodW[7] * inner(a0 + c * d, e, log_rho, &mag),
-               g = kGauss7W[3] * inner(a0 + c * d, e, log_rho, &mag);
+        const double fc = inner(a0 + c * d, e, log_rho, &mag);
+        double k = kKronrodW[7] * fc, g = kGauss7W[3] * fc;
         for (int i = 0; i < 7; ++i) {
             const double f = inner(a0 + (c - h * kKronrodX[i]) * d, e, log_rho, &mag) +
                              inner(a0 + (c + h * kKronrodX[i]) * d, e, log_rho, &mag);
             k += kKronrodW[i] * f;
             if (i % 2 == 1) g += kGauss7W[i / 2] * f;
         }
-        out.evaluations += 16;
+        out.evaluations += 15;
         return Piece1D{a, b, k * h, std::abs((k - g) * h)};
     };
     constexpr int kMaxIntervals = 400;
@@ -72,7 +73,7 @@ PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const
     // Rounding: every evaluation's cancelling terms, scaled to the interval it came from.
     auto rounding = [&] { return 16 * eps * mag * len / std::max(1, out.evaluations); };
     const Integral1D sum = bisect_largest_error(
-        rule, 0.0, len, [&](double err) { return err > rounding(); }, kMaxIntervals);
+        rule, 0.0, len, [&](double err) { return err > std::max(tol, rounding()); }, kMaxIntervals);
     out.value = sum.value;
     out.error = sum.error + rounding();
     return out;
@@ -80,7 +81,7 @@ PolygonPair integrate_edge_pair(const Vec3& a0, const Vec3& d, double len, const
 
 }  // namespace
 
-PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb) {
+PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb, double abs_tol) {
     PolygonPair out;
     // Work in coordinates centred on a's first vertex and scaled to the larger polygon's size,
     // so that the logarithms are of order one at every scale.
@@ -110,6 +111,10 @@ PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb) {
     for (int k = 0; k < ca.n; ++k) c1 += ca.v[k];
     for (int k = 0; k < cbp.n; ++k) c2 += cbp.v[k];
     const double log_rho = std::log(std::max(1.0, glm::length(c1 / double(ca.n) - c2 / double(cbp.n))));
+    // The tolerance in the scaled units, shared equally among the edge pairs (each weighted by
+    // |d_k . d_l| <= 1 in the sum).
+    const double scale2 = size * size / (2.0 * kPi);
+    const double pair_tol = abs_tol / (scale2 * ca.n * cbp.n);
     double sum = 0.0, err = 0.0;
     for (int k = 0; k < ca.n; ++k) {
         const Vec3 ak = ca.v[k], dk = ca.v[(k + 1) % ca.n] - ak;
@@ -121,7 +126,7 @@ PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb) {
             if (!(ll > 0.0)) continue;
             const double c = glm::dot(dk / lk, dl / ll);
             if (c == 0.0) continue;
-            const PolygonPair p = integrate_edge_pair(ak, dk / lk, lk, Edge{bl, dl / ll, ll}, log_rho);
+            const PolygonPair p = integrate_edge_pair(ak, dk / lk, lk, Edge{bl, dl / ll, ll}, log_rho, pair_tol);
             sum += c * p.value;
             err += std::abs(c) * p.error;
             out.evaluations += p.evaluations;
@@ -129,7 +134,6 @@ PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb) {
     }
     // Both contours run counter-clockwise about normals that face each other, so the
     // textbook's sign (same sense about one common normal) flips.
-    const double scale2 = size * size / (2.0 * kPi);
     out.value = std::max(0.0, sum * scale2);
     out.error = (err + 64 * std::numeric_limits<double>::epsilon() * std::abs(sum)) * scale2;
     return out;

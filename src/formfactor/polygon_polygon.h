@@ -8,7 +8,10 @@
 // so partly hidden, touching, edge- and vertex-sharing pairs need no special case. The inner
 // integral along edge l is in closed form; the outer one, along edge k, is an adaptive
 // Gauss-Kronrod (7, 15) rule whose integrand is smooth except for r ln r kinks where edges are
-// collinear (shared edges), so every entry comes out exact to round-off at any gap and scale.
+// collinear (shared edges). By default every entry comes out exact to round-off at any gap and
+// scale; given an absolute tolerance, the outer rule stops once its error estimate is within it
+// (pairs whose entry only needs a tolerance, such as the hierarchy's pairs of patches, pay for
+// that and no more).
 #include "util/math.h"
 
 namespace radiosa {
@@ -20,7 +23,8 @@ struct PolygonPair {
 };
 
 // a[0..na) and b[0..nb): planar, convex, counter-clockwise about their front normals, at most
-// 8 vertices each. Zero when either lies wholly behind or in the other's plane.
-PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb);
+// 8 vertices each. Zero when either lies wholly behind or in the other's plane. `abs_tol`: the
+// error wanted on A_a F_ab (area units), 0 for round-off.
+PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb, double abs_tol = 0.0);
 
 }  // namespace radiosa

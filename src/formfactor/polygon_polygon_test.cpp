@@ -95,4 +95,30 @@ TEST(PolygonToPolygon, NothingPassesBetweenCoplanarOrBackToBackPolygons) {
     EXPECT_EQ(f_ab(a, away), 0.0);
 }
 
+TEST(PolygonToPolygon, AToleranceStopsEarlyAndItsEstimateCoversTheError) {
+    // Opposed, perpendicular (shared edge and a hair apart) and offset pairs: with a tolerance
+    // the contour integral stops once its estimate is within it, costs fewer evaluations, and
+    // the estimate still covers its distance from the round-off answer.
+    const Quad floor = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+    const Quad wall = {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0)};
+    const Quad strip = {Vec3(0, 0, 1e-6), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 1e-6)};
+    const Quad offset = {Vec3(0.5, 0.3, 0.2), Vec3(0.5, 1.3, 0.2), Vec3(1.5, 1.3, 0.2), Vec3(1.5, 0.3, 0.2)};
+    const auto [lo, hi] = opposed(0.05, 1.0);
+    const std::pair<Quad, Quad> pairs[] = {{lo, hi}, {floor, wall}, {floor, strip}, {floor, offset}};
+    long long exact_evaluations = 0, loose_evaluations = 0;
+    for (const auto& [a, b] : pairs)
+        for (const double tol : {1e-4, 1e-7, 1e-10}) {
+            SCOPED_TRACE(testing::Message() << "tolerance " << tol);
+            const PolygonPair exact = polygon_to_polygon(a.data(), 4, b.data(), 4);
+            const PolygonPair p = polygon_to_polygon(a.data(), 4, b.data(), 4, tol);
+            ASSERT_GT(exact.value, 0.0);
+            EXPECT_LE(p.error, tol + exact.error);
+            EXPECT_LE(std::abs(p.value - exact.value), p.error + exact.error);
+            EXPECT_LE(p.evaluations, exact.evaluations);
+            exact_evaluations += exact.evaluations;
+            loose_evaluations += p.evaluations;
+        }
+    EXPECT_LT(2 * loose_evaluations, exact_evaluations);
+}
+
 }  // namespace radiosa
