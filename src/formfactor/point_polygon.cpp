@@ -127,14 +127,27 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
 }
 
 // The polygon as seen from x: its front part's vertex directions w, the unit normals u of
-// its edges' great circles, their angles, and Lambert's integral over it (2 pi times the
-// unblocked form factor).
+// its edges' great circles, and (once measure() has run) their angles and Lambert's integral
+// over it (2 pi times the unblocked form factor).
 struct SphericalPolygon {
     std::array<Vec3, kMaxVerts> w, u;
     std::array<double, kMaxVerts> gamma{};
     int nc = 0;
     double whole = 0.0;
+    bool measured = false;
 };
+
+// The edges' angles and Lambert's integral: sum over edges of (arc angle) * n . (unit normal
+// of the arc's great circle). Left until needed: a point the blocker misses needs neither.
+void measure(const Vec3& n, SphericalPolygon* sp) {
+    if (sp->measured) return;
+    sp->measured = true;
+    sp->whole = 0.0;
+    for (int k = 0; k < sp->nc; ++k) {
+        sp->gamma[k] = angle_between(sp->w[k], sp->w[(k + 1) % sp->nc]);
+        sp->whole += sp->gamma[k] * glm::dot(n, sp->u[k]);
+    }
+}
 
 // False when x sees nothing of the polygon (behind it, or the polygon behind x).
 bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPolygon* sp) {
@@ -148,21 +161,14 @@ bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPo
     if (sp->nc < 3) return false;
     for (int k = 0; k < sp->nc; ++k) sp->w[k] = unit_or_zero(clipped[k] - x);
 
-    // Lambert: sum over edges of (arc angle) * n . (unit normal of the arc's great circle).
-    sp->whole = 0.0;
-    for (int k = 0; k < sp->nc; ++k) {
-        const Vec3& a = sp->w[k];
-        const Vec3& b = sp->w[(k + 1) % sp->nc];
-        sp->u[k] = unit_or_zero(glm::cross(a, b));
-        sp->gamma[k] = angle_between(a, b);
-        sp->whole += sp->gamma[k] * glm::dot(n, sp->u[k]);
-    }
+    for (int k = 0; k < sp->nc; ++k) sp->u[k] = unit_or_zero(glm::cross(sp->w[k], sp->w[(k + 1) % sp->nc]));
+    sp->measured = false;
     return true;
 }
 
 // Lambert's integral over the part of the spherical polygon inside the blocker's cone (a cap
 // around d with half-angle alpha): 2 pi times the form factor the blocker takes away.
-double blocked_part(const SphericalPolygon& sp, const Vec3& x, const Vec3& n, const BoundingSphere& blocker) {
+double blocked_part(SphericalPolygon& sp, const Vec3& x, const Vec3& n, const BoundingSphere& blocker) {
     const Vec3 to_c = blocker.center - x;
     const double dist = glm::length(to_c);
     if (!(dist > blocker.radius)) return 0.0;
@@ -177,11 +183,27 @@ double blocked_part(const SphericalPolygon& sp, const Vec3& x, const Vec3& n, co
         inside_all = inside_all && side >= sin_a;
     }
     if (inside_all) return 2.0 * kPi * sin_a * sin_a * glm::dot(n, d);
+    measure(n, &sp);
+    // The polygon wholly inside the cap (every vertex is: a cap narrower than a hemisphere is
+    // convex on the sphere): all of it is blocked. The umbra of a ball larger than the polygon
+    // it hides, the common case on a shadowed pair's patch.
+    bool vertices_inside = true;
+    for (int k = 0; k < sp.nc && vertices_inside; ++k) vertices_inside = glm::dot(sp.w[k], d) >= cos_a;
+    if (vertices_inside) return sp.whole;
     double blocked = 0.0;
     // (1) polygon edges inside the cap.
-    for (int k = 0; k < sp.nc; ++k)
-        blocked +=
-            arc_inside_cap(sp.w[k], sp.w[(k + 1) % sp.nc], sp.gamma[k], d, cos_a) * glm::dot(n, sp.u[k]);
+    bool edge_inside = false;
+    for (int k = 0; k < sp.nc; ++k) {
+        const double len = arc_inside_cap(sp.w[k], sp.w[(k + 1) % sp.nc], sp.gamma[k], d, cos_a);
+        edge_inside = edge_inside || len > 0.0;
+        blocked += len * glm::dot(n, sp.u[k]);
+    }
+    // No edge enters the cap and its centre lies outside an edge: the two are apart (seen past
+    // a corner of the polygon, where no edge's great circle separates them).
+    if (!edge_inside) {
+        for (int k = 0; k < sp.nc; ++k)
+            if (glm::dot(d, sp.u[k]) < 0.0) return 0.0;
+    }
     // (2) arcs of the cap's circle inside the polygon.
     return add_cap_circle_inside(blocked, sp.w, sp.nc, n, d, sin_a, cos_a);
 }
@@ -193,6 +215,7 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
     if (count < 3 || count > 16) return 0.0;
     SphericalPolygon sp;
     if (!project(x, n, v, count, &sp)) return 0.0;
+    measure(n, &sp);
     const double blocked = blocker ? blocked_part(sp, x, n, *blocker) : 0.0;
     return std::max(0.0, (sp.whole - blocked) / (2.0 * kPi));
 }
@@ -201,8 +224,10 @@ double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int
                                 const BoundingSphere& blocker) {
     SphericalPolygon sp;
     if (!project(x, n, v, count, &sp)) return 0.0;
-    return std::clamp(blocked_part(sp, x, n, blocker) / (2.0 * kPi), 0.0,
-                      std::max(0.0, sp.whole / (2.0 * kPi)));
+    const double blocked = blocked_part(sp, x, n, blocker);
+    if (blocked == 0.0) return 0.0;  // the blocker misses: the polygon's angles are not needed
+    measure(n, &sp);
+    return std::clamp(blocked / (2.0 * kPi), 0.0, std::max(0.0, sp.whole / (2.0 * kPi)));
 }
 
 namespace {
