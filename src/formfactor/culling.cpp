@@ -126,34 +126,32 @@ bool Culling::slab_separates(int i, int j, int k) const {
                  m_geo.surface(k).linear_range(a, 0.0, 1.0, 0.0, 1.0));
 }
 
+bool own_surface_clear(const SceneGeometry& g, int a, int b, int k, bool* own) {
+    const Surface& s = g.surface(k);
+    const bool on_a = a == k, on_b = b == k;
+    // The other side of an end's own surface: the same geometry, which the segment leaves
+    // from its back.
+    const bool back_a = g.twin(k) >= 0 && g.twin(k) == a, back_b = g.twin(k) >= 0 && g.twin(k) == b;
+    *own = on_a || on_b || back_a || back_b;
+    if ((on_a || back_a) && (on_b || back_b)) return s.chords_never_cross();
+    if (on_a || on_b) return s.front_segments_escape();
+    if (back_a || back_b) return s.back_segments_escape();
+    return false;
+}
+
 bool Culling::can_block(int i, int j, int k) const {
     const Patch& pi = m_geo.patch(i);
     const Patch& pj = m_geo.patch(j);
     const Surface& s = m_geo.surface(k);
-    const bool on_i = pi.surface == k, on_j = pj.surface == k;
-    // The other side of a patch's own surface: the same geometry, which the segment leaves
-    // from its back.
-    const bool back_i = m_geo.twin(k) >= 0 && m_geo.twin(k) == pi.surface,
-               back_j = m_geo.twin(k) >= 0 && m_geo.twin(k) == pj.surface;
-    if ((on_i || back_i) && (on_j || back_j)) {
-        if (s.chords_never_cross()) return false;
-    } else if (on_i || on_j) {
-        if (s.front_segments_escape()) return false;
-    } else if (back_i || back_j) {
-        if (s.back_segments_escape()) return false;
-    }
-    if (auto pl = s.plane()) {
-        // A segment between points on one closed side of a plane cannot cross it.
-        const auto ei = extent(m_geo, pi, *pl), ej = extent(m_geo, pj, *pl);
-        if ((ei.first >= -m_eps && ej.first >= -m_eps) || (ei.second <= m_eps && ej.second <= m_eps))
-            return false;
-    }
+    bool own = false;
+    if (own_surface_clear(m_geo, pi.surface, pj.surface, k, &own)) return false;
+    if (auto pl = s.plane(); pl && one_side_of_plane(extent(m_geo, pi, *pl), extent(m_geo, pj, *pl), m_eps))
+        return false;
     // Every point of a segment between the patches lies within `reach` of the segment between
     // their bounding centres.
     const double reach = std::max(pi.bound.radius, pj.bound.radius);
     const BoundingSphere& b = m_geo.surface_bound(k);
     if (distance_to_segment(b.center, pi.bound.center, pj.bound.center) > b.radius + reach) return false;
-    const bool own = on_i || on_j || back_i || back_j;
     if (own) return true;
     if (slab_separates(i, j, k)) return false;
     return !(pi.polygon && pj.polygon && hull_misses(pi, pj, s));

@@ -10,6 +10,18 @@
 
 namespace radiosa {
 
+// True when surface k is proven unable to block any segment from a point of surface a to one
+// of surface b by what k is to them: k is one of them, or the other side of one, and its
+// segments escape it (Surface::chords_never_cross, front_segments_escape,
+// back_segments_escape). *own tells whether k is one of them or their other side.
+bool own_surface_clear(const SceneGeometry& g, int a, int b, int k, bool* own);
+
+// A segment between points on one closed side of a plane cannot cross it: ea and eb are the
+// ends' ranges of signed distance from the plane, eps the length below which one is zero.
+inline bool one_side_of_plane(std::pair<double, double> ea, std::pair<double, double> eb, double eps) {
+    return (ea.first >= -eps && eb.first >= -eps) || (ea.second <= eps && eb.second <= eps);
+}
+
 class Culling {
 public:
     explicit Culling(const SceneGeometry& g);

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "formfactor/blocker_set.h"
+#include "formfactor/culling.h"
 #include "formfactor/cubature.h"
 #include "util/gauss_legendre.h"
 #include "util/stopwatch.h"
@@ -222,6 +223,7 @@ public:
         m_samples = node_samples(g, *h, m_m);
         m_coarse = node_samples(g, *h, m_m - 1);
         m_eps = 1e-9 * g.scale();
+        m_cull_eps = 1e-12 * g.scale();  // as Culling's
         for (int k = 0; k < g.surface_count(); ++k)
             if (const auto ball = g.surface(k).sphere(); ball && g.surface(k).whole_sphere())
                 m_balls.emplace_back(k, *ball);
@@ -371,14 +373,27 @@ private:
         return false;
     }
 
-    // Surfaces whose bounding spheres come near the segments between the two nodes.
+    // Surfaces whose bounding spheres come near the segments between the two nodes, less those
+    // proven unable to block them as the dense path proves it for two patches (culling.h): the
+    // nodes' own surfaces whose segments escape them, and planes with both nodes on one side
+    // (the walls of a room, which every pair's bounding spheres come near).
     std::vector<int> blockers(int p, int q) const {
         const BoundingSphere& a = node(p).bound;
         const BoundingSphere& b = node(q).bound;
         const Vec3 e = b.center - a.center;
         const double l2 = glm::dot(e, e);
+        const Rect rp = node_rect(m_g, node(p)), rq = node_rect(m_g, node(q));
         std::vector<int> out;
         for (int k = 0; k < m_g.surface_count(); ++k) {
+            bool own = false;
+            if (own_surface_clear(m_g, node(p).surface, node(q).surface, k, &own)) continue;
+            if (const auto pl = m_g.surface(k).plane()) {
+                const auto range = [&](const HierarchyNode& n, const Rect& r) {
+                    const auto [lo, hi] = m_g.surface(n.surface).linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1);
+                    return std::pair{lo - pl->offset, hi - pl->offset};
+                };
+                if (one_side_of_plane(range(node(p), rp), range(node(q), rq), m_cull_eps)) continue;
+            }
             const BoundingSphere& s = m_g.surface_bound(k);
             const Vec3 oc = s.center - a.center;
             const double t = l2 > 0.0 ? std::clamp(glm::dot(oc, e) / l2, 0.0, 1.0) : 0.0;
@@ -522,7 +537,7 @@ private:
     FormFactorRows m_rows;
     Hierarchy& m_h;
     int m_m;
-    double m_eps = 0.0;
+    double m_eps = 0.0, m_cull_eps = 0.0;
     const PairProgress& m_progress;
     std::vector<Sample> m_samples, m_coarse;
     std::vector<std::pair<int, BoundingSphere>> m_balls;  // whole spheres: solids that can hide a pair
