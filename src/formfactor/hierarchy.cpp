@@ -10,65 +10,17 @@
 #include <cmath>
 
 #include "formfactor/blocker_set.h"
-#include "formfactor/culling.h"
 #include "formfactor/cubature.h"
-#include "util/gauss_legendre.h"
+#include "formfactor/culling.h"
+#include "formfactor/hierarchy_nodes.h"
 #include "util/stopwatch.h"
 
 namespace radiosa {
 namespace {
 
-// The smallest sphere found by growing a onto b (not the minimal one, but never smaller than
-// both, which is all a bound needs).
-BoundingSphere enclose(const BoundingSphere& a, const BoundingSphere& b) {
-    const Vec3 d = b.center - a.center;
-    const double dist = glm::length(d);
-    if (dist + b.radius <= a.radius) return a;
-    if (dist + a.radius <= b.radius) return b;
-    const double r = 0.5 * (dist + a.radius + b.radius);
-    return {a.center + d * ((r - a.radius) / dist), r};
-}
-
-// A ball holding the part [s0, s1] x [t0, t1] of a spherical surface, tighter than its own
-// bound() (the whole sphere): the cap about the direction u0 of the middle azimuth and polar
-// angle that holds the part. cos(angle to u0) >= cos(theta) cos(theta_m) + sin(theta) sin(theta_m)
-// cos(span / 2), a sinusoid in theta whose least value on [theta0, theta1] is at an end or at its
-// trough; a cap of angle alpha <= pi / 2 lies in the ball of radius R sin(alpha) about c + R
-// cos(alpha) u0. Otherwise `fallback`.
-BoundingSphere cap_bound(const Surface& surface, double s0, double s1, double t0, double t1,
-                         const BoundingSphere& fallback) {
-    const auto ball = surface.sphere();
-    if (!ball) return fallback;
-    const auto [pa, ta] = surface.sphere_angles(s0, t0);
-    const auto [pb, tb] = surface.sphere_angles(s1, t1);
-    const double th0 = std::min(ta, tb), th1 = std::max(ta, tb);
-    const double half = 0.5 * std::abs(pb - pa), pm = 0.5 * (pa + pb), tm = 0.5 * (th0 + th1);
-    if (half > kPi) return fallback;
-    const double A = std::cos(tm), B = std::sin(tm) * std::cos(half);
-    const auto f = [&](double th) { return A * std::cos(th) + B * std::sin(th); };
-    double cos_alpha = std::min(f(th0), f(th1));
-    const double trough = std::atan2(B, A) + kPi;  // f's least value, -sqrt(A^2 + B^2)
-    for (const double th : {trough, trough - 2.0 * kPi})
-        if (th > th0 && th < th1) cos_alpha = std::min(cos_alpha, f(th));
-    if (!(cos_alpha > 0.0)) return fallback;
-    const Vec3 u0 =
-        surface.sphere_axes() * Vec3(std::sin(tm) * std::cos(pm), std::sin(tm) * std::sin(pm), std::cos(tm));
-    const double r = ball->radius * std::sqrt(std::max(0.0, 1.0 - cos_alpha * cos_alpha));
-    const BoundingSphere cap{ball->center + ball->radius * cos_alpha * u0,
-                             r * (1.0 + 1e-12) + 1e-15 * ball->radius};
-    return cap.radius < fallback.radius ? cap : fallback;
-}
-
 // A link's slopes (Link::gs, gt, cs, ct).
 struct Slopes {
     double gs = 0.0, gt = 0.0, cs = 0.0, ct = 0.0;
-};
-
-struct Sample {
-    Vec3 x;
-    Vec3 n;       // unit front normal
-    double w;     // area weight
-    double u, v;  // where in the node, each in [-1, 1] along s and t
 };
 
 // The unoccluded kernel cos_x cos_y / (pi r^2) per unit area of both samples, and the segment
@@ -119,100 +71,6 @@ LinearFit fit_plane(const Sample* xs, const std::vector<double>& F) {
     }
     fit.residual_spread = hi - lo;
     return fit;
-}
-
-// The nodes of one surface's patch grid: a binary tree halving the longer side.
-void build_nodes(const SceneGeometry& g, Hierarchy* h) {
-    const int surfaces = g.surface_count();
-    h->roots = surfaces;
-    h->nodes.resize(static_cast<std::size_t>(surfaces));
-    h->leaf_of_patch.assign(static_cast<std::size_t>(g.patch_count()), -1);
-    for (int k = 0; k < surfaces; ++k) {
-        HierarchyNode& r = h->nodes[static_cast<std::size_t>(k)];
-        r.surface = k;
-        r.is1 = g.ns(k);
-        r.it1 = g.nt(k);
-    }
-    // Breadth-first: children always come after their parent.
-    for (std::size_t i = 0; i < h->nodes.size(); ++i) {
-        HierarchyNode n = h->nodes[i];
-        const int ws = n.is1 - n.is0, wt = n.it1 - n.it0;
-        if (ws == 1 && wt == 1) {
-            n.patch = g.patch_index(n.surface, n.is0, n.it0);
-            h->leaf_of_patch[static_cast<std::size_t>(n.patch)] = static_cast<int>(i);
-            h->nodes[i] = n;
-            continue;
-        }
-        HierarchyNode a = n, b = n;
-        if (ws >= wt)
-            a.is1 = b.is0 = n.is0 + ws / 2;
-        else
-            a.it1 = b.it0 = n.it0 + wt / 2;
-        h->nodes[i].child[0] = static_cast<int>(h->nodes.size());
-        h->nodes[i].child[1] = static_cast<int>(h->nodes.size() + 1);
-        h->nodes.push_back(a);
-        h->nodes.push_back(b);
-    }
-    // Areas and bounds, leaves up.
-    for (std::size_t i = h->nodes.size(); i-- > 0;) {
-        HierarchyNode& n = h->nodes[i];
-        if (n.leaf()) {
-            const Patch& pt = g.patch(n.patch);
-            n.area = pt.area;
-            n.bound = cap_bound(g.surface(n.surface), pt.s0, pt.s1, pt.t0, pt.t1, pt.bound);
-            continue;
-        }
-        const HierarchyNode& a = h->nodes[static_cast<std::size_t>(n.child[0])];
-        const HierarchyNode& b = h->nodes[static_cast<std::size_t>(n.child[1])];
-        n.area = a.area + b.area;
-        const Patch& lo = g.patch(g.patch_index(n.surface, n.is0, n.it0));
-        const Patch& hi = g.patch(g.patch_index(n.surface, n.is1 - 1, n.it1 - 1));
-        n.bound = cap_bound(g.surface(n.surface), lo.s0, hi.s1, lo.t0, hi.t1, enclose(a.bound, b.bound));
-    }
-}
-
-struct Rect {
-    double s0, s1, t0, t1;
-};
-
-Rect node_rect(const SceneGeometry& g, const HierarchyNode& n) {
-    const Patch& lo = g.patch(g.patch_index(n.surface, n.is0, n.it0));
-    const Patch& hi = g.patch(g.patch_index(n.surface, n.is1 - 1, n.it1 - 1));
-    return {lo.s0, hi.s1, lo.t0, hi.t1};
-}
-
-// m x m Gauss points of every node, node after node.
-std::vector<Sample> node_samples(const SceneGeometry& g, const Hierarchy& h, int m) {
-    const GaussRule rule = gauss_legendre(m);
-    std::vector<Sample> out;
-    out.reserve(h.nodes.size() * static_cast<std::size_t>(m * m));
-    for (const HierarchyNode& n : h.nodes) {
-        Patch rect_only;  // quadrature_points reads the parameter rectangle only
-        const Rect r = node_rect(g, n);
-        rect_only.s0 = r.s0, rect_only.s1 = r.s1, rect_only.t0 = r.t0, rect_only.t1 = r.t1;
-        const std::vector<QuadPoint> qs = quadrature_points(g.surface(n.surface), rect_only, rule);
-        for (std::size_t k = 0; k < qs.size(); ++k) {  // s inner, t outer (cubature.h)
-            const double w = glm::length(qs[k].nw);
-            out.push_back({qs[k].x, w > 0.0 ? qs[k].nw / w : Vec3(0.0), w,
-                           rule.x[k % static_cast<std::size_t>(m)], rule.x[k / static_cast<std::size_t>(m)]});
-        }
-    }
-    return out;
-}
-
-// Each node's area centroid in its own (u, v), from m x m Gauss points.
-void node_centroids(const SceneGeometry& g, int m, Hierarchy* h) {
-    const std::vector<Sample> samples = node_samples(g, *h, m);
-    const std::size_t mm = static_cast<std::size_t>(m * m);
-    for (std::size_t i = 0; i < h->nodes.size(); ++i) {
-        double w = 0.0, wu = 0.0, wv = 0.0;
-        for (std::size_t a = i * mm; a < (i + 1) * mm; ++a) {
-            w += samples[a].w;
-            wu += samples[a].w * samples[a].u;
-            wv += samples[a].w * samples[a].v;
-        }
-        if (w > 0.0) h->nodes[i].cu = wu / w, h->nodes[i].cv = wv / w;
-    }
 }
 
 class Refiner {
@@ -389,7 +247,8 @@ private:
             if (own_surface_clear(m_g, node(p).surface, node(q).surface, k, &own)) continue;
             if (const auto pl = m_g.surface(k).plane()) {
                 const auto range = [&](const HierarchyNode& n, const Rect& r) {
-                    const auto [lo, hi] = m_g.surface(n.surface).linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1);
+                    const auto [lo, hi] =
+                        m_g.surface(n.surface).linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1);
                     return std::pair{lo - pl->offset, hi - pl->offset};
                 };
                 if (one_side_of_plane(range(node(p), rp), range(node(q), rq), m_cull_eps)) continue;
@@ -551,153 +410,6 @@ private:
 };
 
 }  // namespace
-
-namespace {
-
-template <class T>
-std::vector<T> irradiance_of(const Hierarchy& h, const std::vector<T>& B) {
-    const std::size_t n = h.nodes.size();
-    std::vector<T> b(n, T(0.0)), bs(n, T(0.0)), bt(n, T(0.0));
-    for (std::size_t i = n; i-- > 0;) {  // pull: children come after their parent
-        const HierarchyNode& d = h.nodes[i];
-        if (d.leaf()) {
-            b[i] = B[static_cast<std::size_t>(d.patch)];
-            continue;
-        }
-        const std::size_t k0 = static_cast<std::size_t>(d.child[0]),
-                          k1 = static_cast<std::size_t>(d.child[1]);
-        const double a0 = h.nodes[k0].area / d.area, a1 = h.nodes[k1].area / d.area;
-        b[i] = a0 * b[k0] + a1 * b[k1];
-        // The halves' area centroids lie centroid_gap apart in the node's u (or v).
-        const bool along_s = h.nodes[k0].is1 != d.is1;
-        (along_s ? bs : bt)[i] = (b[k1] - b[k0]) / h.centroid_gap(d);
-        (along_s ? bt : bs)[i] = a0 * (along_s ? bt : bs)[k0] + a1 * (along_s ? bt : bs)[k1];
-    }
-    std::vector<T> hh(n, T(0.0)), hs(n, T(0.0)), ht(n, T(0.0));
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t r) {
-        T sum(0.0), ss(0.0), st(0.0);
-        for (auto l = h.first_link[r]; l < h.first_link[r + 1]; ++l) {
-            const Link& k = h.links[static_cast<std::size_t>(l)];
-            const std::size_t q = static_cast<std::size_t>(k.source);
-            sum += k.f * b[q] + k.cs * bs[q] + k.ct * bt[q];
-            ss += k.gs * b[q];
-            st += k.gt * b[q];
-        }
-        hh[r] = sum, hs[r] = ss, ht[r] = st;
-    });
-    return h.push_linear(std::move(hh), std::move(hs), std::move(ht));
-}
-
-}  // namespace
-
-std::vector<double> Hierarchy::irradiance(const std::vector<double>& B) const {
-    return irradiance_of(*this, B);
-}
-std::vector<Rgb> Hierarchy::irradiance(const std::vector<Rgb>& B) const { return irradiance_of(*this, B); }
-
-std::vector<double> Hierarchy::row_sums() const {
-    return irradiance(std::vector<double>(leaf_of_patch.size(), 1.0));
-}
-
-FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g) {
-    const int n = g.patch_count();
-    const std::size_t un = static_cast<std::size_t>(n);
-    FormFactors ff;
-    ff.F = DenseMatrix(n);
-    ff.error.assign(un * un, 0.0);
-    for (int i = 0; i < n; ++i) ff.area.push_back(g.patch(i).area);
-    // Column j: the irradiance from radiosity 1 on patch j alone, as the solve gathers it.
-    std::vector<double> unit(un, 0.0);
-    for (std::size_t j = 0; j < un; ++j) {
-        unit[j] = 1.0;
-        const std::vector<double> column = h.irradiance(unit);
-        unit[j] = 0.0;
-        for (std::size_t i = 0; i < un; ++i) ff.F.data[i * un + j] = column[i];
-    }
-    // Estimates: each link's, shared by area among its source's patches, at each receiver patch.
-    const auto patches = [&](const HierarchyNode& a) {
-        std::vector<int> out;
-        for (int it = a.it0; it < a.it1; ++it)
-            for (int is = a.is0; is < a.is1; ++is) out.push_back(g.patch_index(a.surface, is, it));
-        return out;
-    };
-    for (const Link& l : h.links) {
-        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
-        const std::vector<int> js = patches(q);
-        for (const int i : patches(h.nodes[static_cast<std::size_t>(l.receiver)]))
-            for (const int j : js)
-                ff.error[static_cast<std::size_t>(i) * un + static_cast<std::size_t>(j)] +=
-                    l.error * ff.area[static_cast<std::size_t>(j)] / q.area;
-    }
-    ff.stats = h.leaf_stats;
-    return ff;
-}
-
-std::size_t hierarchy_bytes(const Hierarchy& h) {
-    return h.nodes.capacity() * sizeof(HierarchyNode) + h.links.capacity() * sizeof(Link) +
-           h.first_link.capacity() * sizeof(std::int64_t) + h.leaf_of_patch.capacity() * sizeof(int);
-}
-
-FormFactorChecks check_hierarchy(const Hierarchy& h, double leaf_tolerance) {
-    FormFactorChecks c;
-    const std::vector<double> rows = h.row_sums();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-        if (const double e = std::abs(rows[i] - 1.0); c.closure_worst_patch < 0 || e > c.closure_max_error) {
-            c.closure_max_error = e;
-            c.closure_worst_patch = static_cast<int>(i);
-        }
-    std::vector<double> node_err(h.nodes.size(), 0.0);
-    for (const Link& l : h.links) {
-        const HierarchyNode& p = h.nodes[static_cast<std::size_t>(l.receiver)];
-        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
-        node_err[static_cast<std::size_t>(l.receiver)] += l.error;
-        c.min_entry = std::min(c.min_entry, l.f);
-        c.max_error_estimate = std::max(c.max_error_estimate, l.error);
-        const double target =
-            p.leaf() && q.leaf() ? leaf_tolerance * std::min(p.area, q.area) / p.area : h.options.tolerance;
-        if (l.error > target) {
-            ++c.entries_over_tolerance;
-            if (l.error / target > c.worst_miss_ratio) {
-                c.worst_miss_ratio = l.error / target;
-                c.worst_miss_estimate = l.error;
-                c.worst_miss_i = p.leaf() ? p.patch : -1;
-                c.worst_miss_j = q.leaf() ? q.patch : -1;
-            }
-        }
-        // The reverse link, if any (a pair proven or sampled to exchange nothing has neither).
-        const auto b = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source)];
-        const auto e = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source) + 1];
-        const auto r = std::lower_bound(b, e, l.receiver, [](const Link& k, int v) { return k.source < v; });
-        const double g = p.area * l.f, g_rev = r != e && r->source == l.receiver ? q.area * r->f : 0.0;
-        if (const double top = std::max(g, g_rev); top > 0.0) {
-            c.reciprocity_max_error = std::max(c.reciprocity_max_error, std::abs(g - g_rev) / top);
-            c.reciprocity_abs_error = std::max(c.reciprocity_abs_error, std::abs(g - g_rev) / p.area);
-            const double est =
-                p.area * l.error + (r != e && r->source == l.receiver ? q.area * r->error : 0.0);
-            if (est > 0.0)
-                c.reciprocity_vs_estimate = std::max(c.reciprocity_vs_estimate, std::abs(g - g_rev) / est);
-        }
-    }
-    const std::vector<double> row_err = h.to_patches(std::move(node_err));
-    for (const double e : row_err) c.max_row_error_estimate = std::max(c.max_row_error_estimate, e);
-    return c;
-}
-
-Hierarchy hierarchy_nodes(const SceneGeometry& geometry, const HierarchyOptions& options) {
-    Hierarchy h;
-    h.options = options;
-    build_nodes(geometry, &h);
-    node_centroids(geometry, options.samples, &h);
-    h.first_link.assign(h.nodes.size() + 1, 0);
-    return h;
-}
-
-void index_links(Hierarchy* h) {
-    h->first_link.assign(h->nodes.size() + 1, 0);
-    for (const Link& l : h->links) ++h->first_link[static_cast<std::size_t>(l.receiver) + 1];
-    for (std::size_t i = 1; i < h->first_link.size(); ++i) h->first_link[i] += h->first_link[i - 1];
-    h->stats.links = static_cast<long long>(h->links.size());
-}
 
 Hierarchy build_hierarchy(const SceneGeometry& geometry, const HierarchyOptions& options,
                           const FormFactorOptions& leaf, const PairProgress& progress) {

@@ -126,7 +126,8 @@ PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb, dou
             if (!(ll > 0.0)) continue;
             const double c = glm::dot(dk / lk, dl / ll);
             if (c == 0.0) continue;
-            const PolygonPair p = integrate_edge_pair(ak, dk / lk, lk, Edge{bl, dl / ll, ll}, log_rho, pair_tol);
+            const PolygonPair p =
+                integrate_edge_pair(ak, dk / lk, lk, Edge{bl, dl / ll, ll}, log_rho, pair_tol);
             sum += c * p.value;
             err += std::abs(c) * p.error;
             out.evaluations += p.evaluations;
