@@ -121,7 +121,9 @@ void read_links(SectionStream& s, std::uint64_t nodes, std::uint64_t count, std:
     for (std::uint64_t k = 0; k < count; ++k) {
         Link l;
         const std::uint32_t r = s.u32(), q = s.u32();
-        l.f = s.f64(), l.error = s.f64(), l.gs = s.f64(), l.gt = s.f64(), l.cs = s.f64(), l.ct = s.f64();
+        l.f = s.f64(), l.error = s.f64();
+        // The slopes are single-precision values, written as f64.
+        for (float* slope : {&l.gs, &l.gt, &l.cs, &l.ct}) *slope = static_cast<float>(s.f64());
         const std::string at = "link " + std::to_string(k);
         if (r >= nodes || q >= nodes) throw CacheFileError(at + " joins a node out of range");
         if (k > 0 && (r < prev_r || (r == prev_r && q <= prev_s)))
@@ -146,7 +148,7 @@ std::size_t link_bytes(const Hierarchy& h, std::size_t* next, std::uint8_t* dst,
         const Link& l = h.links[i];
         m.u32(static_cast<std::uint32_t>(l.receiver));
         m.u32(static_cast<std::uint32_t>(l.source));
-        for (const double v : {l.f, l.error, l.gs, l.gt, l.cs, l.ct}) m.f64(v);
+        for (const double v : {l.f, l.error, double(l.gs), double(l.gt), double(l.cs), double(l.ct)}) m.f64(v);
     }
     *next += count;
     std::memcpy(dst, m.bytes().data(), m.bytes().size());

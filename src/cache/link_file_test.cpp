@@ -195,7 +195,7 @@ TEST_F(LinkFile, CraftedLinksAreRefused) {
     p = crafted("nan", [](Hierarchy& h) { h.links[7].error = std::numeric_limits<double>::quiet_NaN(); });
     EXPECT_NE(load_error(p).find("estimate"), std::string::npos) << load_error(p);
     EXPECT_NE(verify_error(p).find("estimate"), std::string::npos);
-    p = crafted("slope", [](Hierarchy& h) { h.links[9].gs = std::numeric_limits<double>::infinity(); });
+    p = crafted("slope", [](Hierarchy& h) { h.links[9].gs = std::numeric_limits<float>::infinity(); });
     EXPECT_NE(load_error(p).find("slope"), std::string::npos) << load_error(p);
     // Well formed, but the rows no longer close: scaled, or half the links dropped.
     p = crafted("scaled", [](Hierarchy& h) {

@@ -18,9 +18,11 @@
 namespace radiosa {
 namespace {
 
-// A link's slopes (Link::gs, gt, cs, ct).
+// A link's slopes (Link::gs, gt, cs, ct) as stored, in single precision, and what storing them
+// so costs the link's gather per unit of radiosity.
 struct Slopes {
-    double gs = 0.0, gt = 0.0, cs = 0.0, ct = 0.0;
+    float gs = 0.0f, gt = 0.0f, cs = 0.0f, ct = 0.0f;
+    double rounding = 0.0;
 };
 
 // The unoccluded kernel cos_x cos_y / (pi r^2) per unit area of both samples, and the segment
@@ -144,12 +146,23 @@ private:
         return g;
     }
 
-    // A link r <- s's slopes from the fits of F(x -> s) over r and of F(y -> r) over s.
-    static Slopes slopes(const HierarchyNode& r, const LinearFit& over_r, const HierarchyNode& s,
-                         const LinearFit& over_s) {
+    // A link r <- s's slopes from the fits of F(x -> s) over r and of F(y -> r) over s, rounded
+    // to single precision. The rounding is exact to measure: a receiver slope's is what the
+    // plane loses at the node's edge (u = +-1), a source slope's is multiplied by the source's
+    // radiosity slope, at most (max B) / centroid_gap per unit of radiosity (its children's
+    // difference over their centroids' distance).
+    Slopes slopes(const HierarchyNode& r, const LinearFit& over_r, const HierarchyNode& s,
+                  const LinearFit& over_s) const {
         Slopes k;
-        if (!r.leaf()) k.gs = over_r.gs, k.gt = over_r.gt;
-        if (!s.leaf()) k.cs = over_s.ms / r.area, k.ct = over_s.mt / r.area;
+        const auto round = [&k](double x, float* out, double weight) {
+            *out = static_cast<float>(x);
+            k.rounding += weight * std::abs(x - static_cast<double>(*out));
+        };
+        if (!r.leaf()) round(over_r.gs, &k.gs, 1.0), round(over_r.gt, &k.gt, 1.0);
+        if (!s.leaf()) {
+            const double per_slope = 1.0 / std::max(1e-3, m_h.centroid_gap(s));
+            round(over_s.ms / r.area, &k.cs, per_slope), round(over_s.mt / r.area, &k.ct, per_slope);
+        }
         return k;
     }
     bool add(int r, int s, double f, double e, const Slopes& k = {}) {
@@ -365,11 +378,13 @@ private:
         // source's per unit area of p (none when q is one patch), and the quadrature's.
         const double rp = a.leaf() ? 0.0 : c.fit_p.residual_spread;
         const double rq = b.leaf() ? 0.0 : c.fit_q.residual_spread;
-        const double e_pq = rp + (rq * b.area + c.quadrature) / a.area;
-        const double e_qp = rq + (rp * a.area + c.quadrature) / b.area;
+        // The slopes are stored in single precision, and their rounding counts too.
+        const Slopes k_pq = slopes(a, c.fit_p, b, c.fit_q), k_qp = slopes(b, c.fit_q, a, c.fit_p);
+        const double e_pq = rp + (rq * b.area + c.quadrature) / a.area + k_pq.rounding;
+        const double e_qp = rq + (rp * a.area + c.quadrature) / b.area + k_qp.rounding;
         if (c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance) {
-            add(p, q, c.g / a.area, e_pq, slopes(a, c.fit_p, b, c.fit_q));
-            add(q, p, c.g / b.area, e_qp, slopes(b, c.fit_q, a, c.fit_p));
+            add(p, q, c.g / a.area, e_pq, k_pq);
+            add(q, p, c.g / b.area, e_qp, k_qp);
             return done(p, q);
         }
         // Every sample pair hidden: a zero coupling whose estimate is what the open view
@@ -403,7 +418,7 @@ private:
     // Each thread's links in chunks of kChunkLinks, never one array that doubles: a chunk is
     // large enough that malloc maps it apart (its untouched tail costs nothing resident), and
     // freeing it returns its memory.
-    static constexpr std::size_t kChunkLinks = std::size_t{1} << 20;  // 56 MB
+    static constexpr std::size_t kChunkLinks = std::size_t{1} << 20;  // 40 MB
     tbb::enumerable_thread_specific<std::vector<std::vector<Link>>> m_links;
     tbb::enumerable_thread_specific<FormFactorStats> m_leaf_stats;
     mutable std::atomic<long long> m_node_pairs{0}, m_kernel_samples{0}, m_dropped{0}, m_leaf_links{0};

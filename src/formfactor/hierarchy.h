@@ -62,11 +62,14 @@ struct Link {
     double error = 0.0;  // estimate of |f - exact| at every point of the receiver
     // The factor's slopes over the receiver: F(x -> source) ~ f + gs u + gt v, u and v in
     // [-1, 1] across the receiver's parameter rectangle (area-weighted mean f); 0 for a patch.
-    double gs = 0.0, gt = 0.0;
+    // The slopes are corrections to f and are held in single precision (40 bytes a link, not
+    // 56: the links are most of a large scene's memory); their rounding is in `error`.
+    float gs = 0.0f, gt = 0.0f;
     // The source's slopes: the receiver also gathers cs Bs + ct Bt, Bs and Bt the source's
     // radiosity slopes along u and v (Hierarchy::irradiance); 0 for a patch.
-    double cs = 0.0, ct = 0.0;
+    float cs = 0.0f, ct = 0.0f;
 };
+static_assert(sizeof(Link) == 40, "a link's size is in docs/scale.md");
 
 struct HierarchyStats {
     long long links = 0;

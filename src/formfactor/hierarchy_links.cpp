@@ -35,9 +35,9 @@ std::vector<T> irradiance_of(const Hierarchy& h, const std::vector<T>& B) {
         for (auto l = h.first_link[r]; l < h.first_link[r + 1]; ++l) {
             const Link& k = h.links[static_cast<std::size_t>(l)];
             const std::size_t q = static_cast<std::size_t>(k.source);
-            sum += k.f * b[q] + k.cs * bs[q] + k.ct * bt[q];
-            ss += k.gs * b[q];
-            st += k.gt * b[q];
+            sum += k.f * b[q] + double(k.cs) * bs[q] + double(k.ct) * bt[q];
+            ss += double(k.gs) * b[q];
+            st += double(k.gt) * b[q];
         }
         hh[r] = sum, hs[r] = ss, ht[r] = st;
     });
