@@ -148,7 +148,8 @@ std::size_t link_bytes(const Hierarchy& h, std::size_t* next, std::uint8_t* dst,
         const Link& l = h.links[i];
         m.u32(static_cast<std::uint32_t>(l.receiver));
         m.u32(static_cast<std::uint32_t>(l.source));
-        for (const double v : {l.f, l.error, double(l.gs), double(l.gt), double(l.cs), double(l.ct)}) m.f64(v);
+        for (const double v : {l.f, l.error, double(l.gs), double(l.gt), double(l.cs), double(l.ct)})
+            m.f64(v);
     }
     *next += count;
     std::memcpy(dst, m.bytes().data(), m.bytes().size());
