@@ -105,6 +105,34 @@ TEST(PointPolygon, SphereBlockerTakesOutItsProjectedCap) {
     }
 }
 
+// The shortcuts of the blocked part: a polygon wholly inside the ball's cone is wholly blocked,
+// and one the cone passes beside its corner (crossing both edges' great circles, but not the
+// polygon) loses nothing. Four quadrants around that corner share the ball's whole cap.
+TEST(PointPolygon, BlockedPartAnswersUmbraAndCornerAtOnce) {
+    const Vec3 x(0.0), n(0, 0, 1);
+    const BoundingSphere ball{Vec3(-0.9, -0.9, 4.0), 1.0};
+    const Vec3 tiny[4] = {{-0.8, -0.8, 10}, {-0.8, -0.7, 10}, {-0.7, -0.7, 10}, {-0.7, -0.8, 10}};
+    EXPECT_EQ(point_to_polygon_blocked(x, n, tiny, 4, ball), point_to_polygon(x, n, tiny, 4, nullptr));
+    EXPECT_GT(point_to_polygon_blocked(x, n, tiny, 4, ball), 0.0);
+    const double L = 50.0, z = 5.0;
+    const Vec3 q1[4] = {{0, 0, z}, {0, L, z}, {L, L, z}, {L, 0, z}};
+    const Vec3 q2[4] = {{-L, 0, z}, {-L, L, z}, {0, L, z}, {0, 0, z}};
+    const Vec3 q3[4] = {{-L, -L, z}, {-L, 0, z}, {0, 0, z}, {0, -L, z}};
+    const Vec3 q4[4] = {{0, -L, z}, {0, 0, z}, {L, 0, z}, {L, -L, z}};
+    // The corner's direction lies 17.7 degrees from the cone's axis, beyond its 13.8; the edges'
+    // planes x = 0 and y = 0 lie 12.4 degrees from it, within.
+    EXPECT_EQ(point_to_polygon_blocked(x, n, q1, 4, ball), 0.0);
+    double sum = 0.0;
+    for (const Vec3* q : {q1, q2, q3, q4}) {
+        const double b = point_to_polygon_blocked(x, n, q, 4, ball);
+        EXPECT_NEAR(point_to_polygon(x, n, q, 4, nullptr) - point_to_polygon(x, n, q, 4, &ball), b, 1e-15);
+        sum += b;
+    }
+    const double dist = glm::length(ball.center), sin_a = ball.radius / dist;
+    EXPECT_GT(point_to_polygon_blocked(x, n, q2, 4, ball), 1e-4);  // the cone reaches past x = 0
+    EXPECT_NEAR(sum, sin_a * sin_a * ball.center.z / dist, 1e-14);
+}
+
 // The cap arc of a sphere seen near the far end of a polygon edge that spans almost half the
 // sky (the horizon edge of a large wall close to x): its interval on the edge wraps past +pi and
 // is found only through the 2 pi shift. The mirror image puts the sphere near the edge's start,
