@@ -66,6 +66,9 @@ BoundingSphere bound_of(const std::vector<QuadPoint>& pts) {
 class Integrator {
 public:
     Integrator(const SceneGeometry& g, const FormFactorOptions& o) : m_geo(g), m_opt(o), m_cull(g) {
+        // The fixed rule's points of every patch; the error-controlled method makes its own (it
+        // uses this class for culling only), and at 100,000 patches these would be 230 MB.
+        if (o.method != FormFactorMethod::Fixed) return;
         const GaussRule rule = gauss_legendre(o.gauss_points);
         const GaussRule offset_rule = gauss_legendre(o.gauss_points + 1);
         m_points.resize(g.patch_count());
@@ -578,7 +581,7 @@ FormFactors FormFactorRows::zeros() const {
     ff.F = DenseMatrix(n);
     ff.options = m->options;
     for (const Patch& p : m->geometry.patches()) ff.area.push_back(p.area);
-    if (m->options.method == FormFactorMethod::Adaptive)
+    if (m->options.method != FormFactorMethod::Fixed)
         ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
     return ff;
 }
@@ -602,7 +605,7 @@ PairEntries FormFactorRows::pair(int i, int j, FormFactorStats* stats) const {
     }
     PairEntries e;
     std::vector<int> blockers;
-    if (m->options.method == FormFactorMethod::Adaptive)
+    if (m->options.method != FormFactorMethod::Fixed)
         m->adaptive.pair(i, j, &e, blockers, stats);
     else
         m->integrator.pair(i, j, &e, blockers, stats);
@@ -612,7 +615,7 @@ PairEntries FormFactorRows::pair(int i, int j, FormFactorStats* stats) const {
 void FormFactorRows::compute_rows(int begin, int end, const std::vector<std::vector<int>>* pairs,
                                   FormFactors* ff, FormFactorStats* stats,
                                   const PairProgress& progress) const {
-    const bool controlled = m->options.method == FormFactorMethod::Adaptive;
+    const bool controlled = m->options.method != FormFactorMethod::Fixed;
     const int n = patch_count();
     std::mutex merge;
     // Each task owns whole rows i and writes only F(i, j) and F(j, i) for j >= i, so no two
