@@ -581,8 +581,7 @@ FormFactors FormFactorRows::zeros() const {
     ff.F = DenseMatrix(n);
     ff.options = m->options;
     for (const Patch& p : m->geometry.patches()) ff.area.push_back(p.area);
-    if (m->options.method != FormFactorMethod::Fixed)
-        ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
+    if (m->options.method != FormFactorMethod::Fixed) ff.error.assign(static_cast<std::size_t>(n) * n, 0.0);
     return ff;
 }
 
