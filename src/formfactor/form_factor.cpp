@@ -67,7 +67,8 @@ class Integrator {
 public:
     Integrator(const SceneGeometry& g, const FormFactorOptions& o) : m_geo(g), m_opt(o), m_cull(g) {
         // The fixed rule's points of every patch; the error-controlled method makes its own (it
-        // uses this class for culling only), and at 100,000 patches these would be 230 MB.
+        // uses this class for culling only); at 101,070 patches leaving them out lowered the peak
+        // from 4,244 to 4,084 MB (docs/scale.md).
         if (o.method != FormFactorMethod::Fixed) return;
         const GaussRule rule = gauss_legendre(o.gauss_points);
         const GaussRule offset_rule = gauss_legendre(o.gauss_points + 1);
