@@ -46,15 +46,22 @@ struct RayIndex::Impl {
     double radius = 0.0;  // of a ball holding every box
     RTCScene scene = nullptr;
 
-    // What one query carries through Embree to the intersect callback: Embree's context first,
-    // so the callback can cast back to it.
+    // One ray of a query: the caller's ray in double, and the nearest hit so far.
+    struct Lane {
+        const Ray* ray = nullptr;
+        double shift = 0.0;  // Embree's ray starts at ray->at(shift), relative to `center`
+        double best = std::numeric_limits<double>::infinity();  // ray parameter of the caller's ray
+        int surface = -1;                                       // whose front side is hit at `best`
+        double limit = 0.0;  // the t_max it was found with (a numeric root may depend on it)
+    };
+    // What one query (a ray, or a packet of up to kPacket) carries through Embree to the
+    // intersect callback: Embree's context first, so the callback can cast back to it. Embree
+    // may regroup a packet's rays before a callback, so each ray's id names its lane.
+    static constexpr int kPacket = 8;
     struct Query {
         RTCIntersectContext rtc;
         const Impl* index;
-        const Ray* ray;  // the caller's ray, in double
-        double shift;    // Embree's ray starts at ray->at(shift), relative to `center`
-        double best;     // the nearest hit so far (ray parameter of the caller's ray)
-        std::optional<Found> found;
+        Lane lanes[kPacket];
     };
 
     static void bounds(const RTCBoundsFunctionArguments* args) {
@@ -70,21 +77,66 @@ struct RayIndex::Impl {
     }
 
     static void intersect(const RTCIntersectFunctionNArguments* args) {
-        if (!args->valid[0]) return;
         Query* q = reinterpret_cast<Query*>(args->context);
+        const unsigned n = args->N;
+        RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
+        RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
         const int k = static_cast<int>(args->primID);
-        // Ties at exactly `best` go to the lower surface index, as in a loop over the surfaces.
-        const double limit = std::nextafter(q->best, std::numeric_limits<double>::infinity());
-        const auto h = q->index->surfaces[static_cast<std::size_t>(k)]->intersect(*q->ray, 0.0, limit,
-                                                                                  HitSide::FrontOnly);
-        if (!h || (h->dist == q->best && q->found && q->found->surface < k)) return;
-        q->best = h->dist;
-        q->found = Found{k, *h};
-        RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
-        // Generous in float: traversal rounding must not prune a box holding a nearer hit.
-        rh->ray.tfar = float_up((h->dist - q->shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
-        rh->hit.geomID = args->geomID;
-        rh->hit.primID = args->primID;
+        const Surface& surface = *q->index->surfaces[static_cast<std::size_t>(k)];
+        for (unsigned i = 0; i < n; ++i) {
+            if (!args->valid[i]) continue;
+            Lane& l = q->lanes[RTCRayN_id(rays, n, i)];
+            // Ties at exactly `best` go to the lower surface index, as in a loop over the surfaces.
+            const double limit = std::nextafter(l.best, std::numeric_limits<double>::infinity());
+            const auto d = surface.front_distance(*l.ray, 0.0, limit);
+            if (!d || (*d == l.best && l.surface < k)) continue;
+            l.best = *d;
+            l.surface = k;
+            l.limit = limit;
+            // Generous in float: traversal rounding must not prune a box holding a nearer hit.
+            RTCRayN_tfar(rays, n, i) = float_up((*d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
+            RTCHitN_geomID(hits, n, i) = args->geomID;
+            RTCHitN_primID(hits, n, i) = args->primID;
+        }
+    }
+
+    // The nearest surface's hit, its parameters found once, by the very call front_distance
+    // answered (Surface promises the same distance bit for bit); should a type ever break
+    // that, the loop decides.
+    std::optional<Found> finish(const Lane& l) const {
+        if (l.surface < 0) return std::nullopt;
+        const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
+                                                                                HitSide::FrontOnly);
+        if (h && h->dist == l.best) return Found{l.surface, *h};
+        std::optional<Found> found;
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < surfaces.size(); ++k)
+            if (const auto g = surfaces[k]->intersect(*l.ray, 0.0, best, HitSide::FrontOnly)) {
+                best = g->dist;
+                found = Found{static_cast<int>(k), *g};
+            }
+        return found;
+    }
+
+    // Sets up lane `id` of q for `ray`, clipped to the ball holding every box (Embree then
+    // starts inside the scene); false when the ray misses that ball.
+    bool start(const Ray& ray, unsigned id, Query* q, Vec3* org) const {
+        const Vec3 oc = ray.origin - center;
+        const double a = glm::dot(ray.dir, ray.dir), b = glm::dot(oc, ray.dir),
+                     c = glm::dot(oc, oc) - radius * radius;
+        if (!(a > 0.0)) return false;
+        const double disc = b * b - a * c;
+        if (!(disc >= 0.0)) return false;
+        const double root = std::sqrt(disc);
+        const double t_out = (-b + root) / a;
+        if (!(t_out > 0.0)) return false;
+        Lane& l = q->lanes[id];
+        l.ray = &ray;
+        l.shift = std::max(0.0, (-b - root) / a);
+        l.best = std::numeric_limits<double>::infinity();
+        l.surface = -1;
+        *org = oc + l.shift * ray.dir;
+        return true;
     }
 };
 
@@ -137,29 +189,15 @@ RayIndex::~RayIndex() {
 }
 
 std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
-    // Clip the ray to the ball holding every box: Embree then starts inside the scene.
-    const Vec3 oc = ray.origin - m->center;
-    const double a = glm::dot(ray.dir, ray.dir), b = glm::dot(oc, ray.dir),
-                 c = glm::dot(oc, oc) - m->radius * m->radius;
-    if (!(a > 0.0)) return std::nullopt;
-    const double disc = b * b - a * c;
-    if (!(disc >= 0.0)) return std::nullopt;
-    const double root = std::sqrt(disc);
-    const double t_out = (-b + root) / a;
-    if (!(t_out > 0.0)) return std::nullopt;
-    const double t_in = std::max(0.0, (-b - root) / a);
-
     Impl::Query q;
+    Vec3 org;
+    if (!m->start(ray, 0, &q, &org)) return std::nullopt;
     rtcInitIntersectContext(&q.rtc);
     q.index = m.get();
-    q.ray = &ray;
-    q.shift = t_in;
-    q.best = std::numeric_limits<double>::infinity();
     RTCRayHit rh;
-    const Vec3 start = oc + t_in * ray.dir;
-    rh.ray.org_x = static_cast<float>(start.x);
-    rh.ray.org_y = static_cast<float>(start.y);
-    rh.ray.org_z = static_cast<float>(start.z);
+    rh.ray.org_x = static_cast<float>(org.x);
+    rh.ray.org_y = static_cast<float>(org.y);
+    rh.ray.org_z = static_cast<float>(org.z);
     rh.ray.dir_x = static_cast<float>(ray.dir.x);
     rh.ray.dir_y = static_cast<float>(ray.dir.y);
     rh.ray.dir_z = static_cast<float>(ray.dir.z);
@@ -173,7 +211,43 @@ std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(m->scene, &q.rtc, &rh);
-    return q.found;
+    return m->finish(q.lanes[0]);
+}
+
+void RayIndex::nearest_front(const Ray* rays, std::size_t count, std::optional<Found>* found) const {
+    constexpr int kP = Impl::kPacket;
+    static_assert(kP == 8, "the packet is traced with rtcIntersect8");
+    Impl::Query q;
+    q.index = m.get();
+    for (std::size_t first = 0; first < count; first += kP) {
+        const int n = static_cast<int>(std::min<std::size_t>(kP, count - first));
+        alignas(32) int valid[kP];
+        alignas(32) RTCRayHit8 rh;
+        for (int i = 0; i < kP; ++i) {
+            Vec3 org(0.0);
+            valid[i] = i < n && m->start(rays[first + i], static_cast<unsigned>(i), &q, &org) ? -1 : 0;
+            const Vec3 dir = i < n ? rays[first + i].dir : Vec3(1.0, 0.0, 0.0);
+            rh.ray.org_x[i] = static_cast<float>(org.x);
+            rh.ray.org_y[i] = static_cast<float>(org.y);
+            rh.ray.org_z[i] = static_cast<float>(org.z);
+            rh.ray.dir_x[i] = static_cast<float>(dir.x);
+            rh.ray.dir_y[i] = static_cast<float>(dir.y);
+            rh.ray.dir_z[i] = static_cast<float>(dir.z);
+            rh.ray.tnear[i] = 0.0f;
+            rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+            rh.ray.time[i] = 0.0f;
+            rh.ray.mask[i] = 0xFFFFFFFFu;
+            rh.ray.id[i] = static_cast<unsigned>(i);
+            rh.ray.flags[i] = 0;
+            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcInitIntersectContext(&q.rtc);
+        q.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        rtcIntersect8(valid, m->scene, &q.rtc, &rh);
+        for (int i = 0; i < n; ++i) found[first + i] = valid[i] ? m->finish(q.lanes[i]) : std::nullopt;
+    }
 }
 
 }  // namespace radiosa

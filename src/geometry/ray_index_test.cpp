@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 #include <string>
 
 #include "../tests/test_scenes.h"
@@ -48,11 +49,13 @@ std::string crowded(int balls, double offset) {
     return s;
 }
 
-void expect_same_hits(const SceneGeometry& g, double offset, double far, int rays) {
+// Each ray alone, and all of them as one batch (packets of eight through Embree), find what
+// the loop finds.
+void expect_same_hits(const SceneGeometry& g, double offset, double far, int count) {
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    int hits = 0;
-    for (int r = 0; r < rays; ++r) {
+    std::vector<Ray> rays;
+    for (int r = 0; r < count; ++r) {
         // Half the rays start inside the box, half on a sphere of radius `far` around it.
         Vec3 o(u(rng), u(rng), u(rng));
         Vec3 d(u(rng), u(rng), u(rng));
@@ -63,17 +66,46 @@ void expect_same_hits(const SceneGeometry& g, double offset, double far, int ray
             o *= 3.9;
         }
         o += Vec3(offset);
-        const Ray ray{o, d};
-        const auto a = g.intersect_front(ray), b = g.intersect_front_by_loop(ray);
-        ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << r;
-        if (!a) continue;
-        ++hits;
-        EXPECT_EQ(a->surface, b->surface) << "ray " << r;
-        EXPECT_EQ(a->patch, b->patch) << "ray " << r;
-        EXPECT_EQ(a->dist, b->dist) << "ray " << r;
-        EXPECT_EQ(a->s, b->s) << "ray " << r;
+        rays.push_back(Ray{o, d});
     }
-    EXPECT_GT(hits, rays / 4);  // the one-sided box is entered from outside only where it faces in
+    std::vector<std::optional<Hit>> batch(rays.size());
+    g.intersect_front(rays.data(), rays.size(), batch.data());
+    int hits = 0;
+    for (int r = 0; r < count; ++r) {
+        const auto b = g.intersect_front_by_loop(rays[r]);
+        for (const auto& a : {g.intersect_front(rays[r]), batch[r]}) {
+            ASSERT_EQ(a.has_value(), b.has_value()) << "ray " << r;
+            if (!a) continue;
+            ++hits;
+            EXPECT_EQ(a->surface, b->surface) << "ray " << r;
+            EXPECT_EQ(a->patch, b->patch) << "ray " << r;
+            EXPECT_EQ(a->dist, b->dist) << "ray " << r;
+            EXPECT_EQ(a->s, b->s) << "ray " << r;
+        }
+    }
+    EXPECT_GT(hits, 2 * count / 4);  // the one-sided box is entered from outside only where it faces in
+}
+
+// A camera's rays, neighbours in packets as an image traces them, among a thousand balls.
+TEST(RayIndex, AnImagesRaysInPacketsFindWhatTheLoopFinds) {
+    const SceneGeometry g(test::scene_of(crowded(1000, 0.0)));
+    std::vector<Ray> rays;
+    for (int y = 0; y < 40; ++y)
+        for (int x = 0; x < 61; ++x)  // not a multiple of the packet: the last packet is partial
+            rays.push_back(Ray{Vec3(3.9, -3.9, 3.5), Vec3(-1.0, 0.2 + 0.02 * x, -0.3 - 0.02 * y)});
+    std::vector<std::optional<Hit>> batch(rays.size());
+    g.intersect_front(rays.data(), rays.size(), batch.data());
+    std::set<int> balls;
+    for (std::size_t r = 0; r < rays.size(); ++r) {
+        const auto b = g.intersect_front_by_loop(rays[r]);
+        ASSERT_EQ(batch[r].has_value(), b.has_value()) << "ray " << r;
+        if (!b) continue;
+        EXPECT_EQ(batch[r]->surface, b->surface) << "ray " << r;
+        EXPECT_EQ(batch[r]->dist, b->dist) << "ray " << r;
+        EXPECT_EQ(batch[r]->u, b->u) << "ray " << r;
+        balls.insert(b->surface);
+    }
+    EXPECT_GT(balls.size(), 50u);  // the rays pass among many balls, not one wall
 }
 
 }  // namespace

@@ -76,16 +76,33 @@ struct SceneGeometry::LazyIndex {
     std::unique_ptr<RayIndex> index;
 };
 
-std::optional<Hit> SceneGeometry::intersect_front(const Ray& ray) const {
-    if (surface_count() < kRayIndexMinSurfaces) return intersect_front_by_loop(ray);
+const RayIndex& SceneGeometry::index() const {
     std::call_once(m_index->once, [&] {
         std::vector<const Surface*> all;
         for (const auto& s : m_surfaces) all.push_back(s.get());
         m_index->index = std::make_unique<RayIndex>(all);
     });
-    const auto f = m_index->index->nearest_front(ray);
+    return *m_index->index;
+}
+
+std::optional<Hit> SceneGeometry::intersect_front(const Ray& ray) const {
+    if (surface_count() < kRayIndexMinSurfaces) return intersect_front_by_loop(ray);
+    const auto f = index().nearest_front(ray);
     if (!f) return std::nullopt;
     return locate(f->surface, f->hit.s, f->hit.t, f->hit.dist);
+}
+
+void SceneGeometry::intersect_front(const Ray* rays, std::size_t count, std::optional<Hit>* hits) const {
+    if (surface_count() < kRayIndexMinSurfaces) {
+        for (std::size_t i = 0; i < count; ++i) hits[i] = intersect_front_by_loop(rays[i]);
+        return;
+    }
+    std::vector<std::optional<RayIndex::Found>> found(count);
+    index().nearest_front(rays, count, found.data());
+    for (std::size_t i = 0; i < count; ++i) {
+        const auto& f = found[i];
+        hits[i] = f ? std::optional<Hit>(locate(f->surface, f->hit.s, f->hit.t, f->hit.dist)) : std::nullopt;
+    }
 }
 
 std::optional<Hit> SceneGeometry::intersect_front_by_loop(const Ray& ray) const {

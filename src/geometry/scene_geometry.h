@@ -11,6 +11,8 @@
 
 namespace radiosa {
 
+class RayIndex;
+
 struct Scene;
 
 // A patch: the parameter rectangle [s0,s1] x [t0,t1] of one surface.
@@ -58,6 +60,9 @@ public:
     // arriving from behind passes through). From kRayIndexMinSurfaces surfaces on, through a
     // BVH (geometry/ray_index.h, built on the first call); the same hits either way.
     std::optional<Hit> intersect_front(const Ray& ray) const;
+    // hits[i] = intersect_front(rays[i]) for i < count; through the BVH in packets, faster for
+    // coherent rays such as an image row's.
+    void intersect_front(const Ray* rays, std::size_t count, std::optional<Hit>* hits) const;
     // Below this many surfaces a loop over them is as fast as the BVH (docs/benchmarks.md).
     static constexpr int kRayIndexMinSurfaces = 8;
     // Every surface in turn: the reference the BVH is tested against.
@@ -79,6 +84,7 @@ private:
     // Built once, on the first ray, shared by copies (the surfaces it points to are shared too).
     struct LazyIndex;
     std::shared_ptr<LazyIndex> m_index;
+    const RayIndex& index() const;
 };
 
 }  // namespace radiosa

@@ -25,19 +25,29 @@ Image render_image(const SceneGeometry& geo, const NodeRadiosity& nodes, const P
     img.width = opt.width;
     img.height = opt.height;
     img.rgb.assign(static_cast<size_t>(opt.width) * opt.height * 3, 0.0f);
-    const double inv = 1.0 / (opt.samples * opt.samples);
-    // Rows are independent and each pixel's samples are summed in a fixed order, so the
-    // image is the same whatever the number of threads.
+    const int n = opt.samples;
+    const double inv = 1.0 / (n * n);
+    // A row's rays are traced together (in packets through the BVH: neighbours share its
+    // nodes), a pixel's n x n samples in order. Rows are independent and each pixel's samples
+    // are summed in a fixed order, so the image is the same whatever the number of threads.
     tbb::parallel_for(tbb::blocked_range<int>(0, opt.height), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
+        std::vector<Ray> rays(static_cast<std::size_t>(opt.width) * n * n);
+        std::vector<std::optional<Hit>> hits(rays.size());
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            std::size_t r = 0;
+            for (int x = 0; x < opt.width; ++x)
+                for (int sy = 0; sy < n; ++sy)
+                    for (int sx = 0; sx < n; ++sx) rays[r++] = cam.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n);
+            geo.intersect_front(rays.data(), rays.size(), hits.data());
+            r = 0;
             for (int x = 0; x < opt.width; ++x) {
                 Rgb sum(0.0);
-                for_each_sample(geo, cam, opt.samples, x, y, [&](const Hit* h) {
-                    if (h) sum += nodes.shade(*h);  // background (no hit) is black
-                });
+                for (int k = 0; k < n * n; ++k, ++r)
+                    if (hits[r]) sum += nodes.shade(*hits[r]);  // background (no hit) is black
                 const size_t i = 3 * (static_cast<size_t>(y) * opt.width + x);
                 for (int c = 0; c < 3; ++c) img.rgb[i + c] = static_cast<float>(sum[c] * inv);
             }
+        }
     });
     return img;
 }

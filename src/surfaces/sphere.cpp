@@ -37,13 +37,14 @@ bool sphere_roots(const Ray& ray, const Vec3& center, double radius, double root
     const Vec3 oc = ray.origin - center;
     const double a = glm::dot(ray.dir, ray.dir);
     const double b = glm::dot(oc, ray.dir);
-    // c = |oc|^2 - R^2 computed as (|oc| - R)(|oc| + R) keeps precision near the surface.
-    const double loc = glm::length(oc);
-    const double c = (loc - radius) * (loc + radius);
-    // Discriminant via the perpendicular distance (Hearn & Baker / Ray Tracing Gems ch. 7).
+    // Discriminant via the perpendicular distance (Hearn & Baker / Ray Tracing Gems ch. 7),
+    // first: most lines that reach a ball's bounding box still miss the ball.
     const Vec3 perp = oc - (b / a) * ray.dir;
     const double disc = a * (radius * radius - glm::dot(perp, perp));
     if (disc < 0.0) return false;
+    // c = |oc|^2 - R^2 computed as (|oc| - R)(|oc| + R) keeps precision near the surface.
+    const double loc = glm::length(oc);
+    const double c = (loc - radius) * (loc + radius);
     const double q = -(b + std::copysign(std::sqrt(disc), b));
     roots[0] = c / q;
     roots[1] = q / a;
@@ -83,6 +84,18 @@ bool SphereSurface::blocks(const Ray& ray, double t_min, double t_max) const {
     double roots[2];
     if (!sphere_roots(ray, m_center, m_radius, roots)) return false;
     return (roots[0] > t_min && roots[0] < t_max) || (roots[1] > t_min && roots[1] < t_max);
+}
+
+std::optional<double> SphereSurface::front_distance(const Ray& ray, double t_min, double t_max) const {
+    // A whole sphere: every point has parameters (as in blocks()), so intersect()'s first root
+    // in range on the front side is its hit; no angles needed.
+    if (!whole_sphere()) return Surface::front_distance(ray, t_min, t_max);
+    double roots[2];
+    if (!sphere_roots(ray, m_center, m_radius, roots)) return std::nullopt;
+    for (double dist : roots)
+        if (dist > t_min && dist < t_max && m_orientation * glm::dot(ray.at(dist) - m_center, ray.dir) < 0.0)
+            return dist;
+    return std::nullopt;
 }
 
 double SphereSurface::area(double s0, double s1, double t0, double t1) const {

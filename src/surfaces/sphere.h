@@ -17,6 +17,7 @@ public:
     std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
                                         HitSide side) const override;
     bool blocks(const Ray& ray, double t_min, double t_max) const override;
+    std::optional<double> front_distance(const Ray& ray, double t_min, double t_max) const override;
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
     // Exact: a . P is A(phi) sin(theta) + a_z cos(theta), each factor a shifted cosine.

@@ -68,6 +68,13 @@ public:
     virtual bool blocks(const Ray& ray, double t_min, double t_max) const {
         return intersect(ray, t_min, t_max, HitSide::Any).has_value();
     }
+    // The distance of intersect(ray, t_min, t_max, HitSide::FrontOnly), bit for bit, without
+    // the hit's parameters, which a type may answer faster (a BVH's candidates need only their
+    // distance: the nearest one's parameters are found once).
+    virtual std::optional<double> front_distance(const Ray& ray, double t_min, double t_max) const {
+        const auto h = intersect(ray, t_min, t_max, HitSide::FrontOnly);
+        return h ? std::optional<double>(h->dist) : std::nullopt;
+    }
 
     // Exact area of the parameter rectangle [s0,s1] x [t0,t1].
     virtual double area(double s0, double s1, double t0, double t1) const = 0;

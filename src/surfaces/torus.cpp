@@ -40,10 +40,12 @@ std::optional<SurfaceHit> TorusSurface::intersect(const Ray& ray, double t_min, 
     const Vec3 ol = m_frame.local(o), dl = m_frame.local(d);
     const double a = dl.x * dl.x + dl.y * dl.y, b = ol.x * dl.x + ol.y * dl.y, c = ol.x * ol.x + ol.y * ol.y;
     const double k = glm::dot(ol, ol) + (m_R - m_r) * (m_R + m_r), R2 = m_R * m_R;
-    const double lo = std::max(-reach, t_min * len - shift), hi = std::min(reach, t_max * len - shift);
-    if (!(lo < hi)) return std::nullopt;
+    if (!(std::max(-reach, t_min * len - shift) < std::min(reach, t_max * len - shift))) return std::nullopt;
+    // The roots over the whole chord through the torus's ball, then those in (t_min, t_max):
+    // a root's last bits do not depend on the range asked for (a BVH and a loop over the
+    // surfaces ask with different t_max and must find the same hit).
     for (const double x :
-         real_roots({k * k - 4.0 * R2 * c, -8.0 * R2 * b, 2.0 * k - 4.0 * R2 * a, 0.0, 1.0}, lo, hi)) {
+         real_roots({k * k - 4.0 * R2 * c, -8.0 * R2 * b, 2.0 * k - 4.0 * R2 * a, 0.0, 1.0}, -reach, reach)) {
         const double dist = (x + shift) / len;
         if (!(dist > t_min && dist < t_max)) continue;
         const Vec3 p = ol + x * dl;
