@@ -53,6 +53,9 @@ struct RayIndex::Impl {
         double best = std::numeric_limits<double>::infinity();  // ray parameter of the caller's ray
         int surface = -1;                                       // whose front side is hit at `best`
         double limit = 0.0;  // the t_max it was found with (a numeric root may depend on it)
+        // The t_max for the next candidate: just above `best`, so that a tie at exactly
+        // `best` is found and goes to the lower surface index, as in a loop over the surfaces.
+        double next = std::numeric_limits<double>::infinity();
     };
     // What one query (a ray, or a packet of up to kPacket) carries through Embree to the
     // intersect callback: Embree's context first, so the callback can cast back to it. Embree
@@ -86,13 +89,12 @@ struct RayIndex::Impl {
         for (unsigned i = 0; i < n; ++i) {
             if (!args->valid[i]) continue;
             Lane& l = q->lanes[RTCRayN_id(rays, n, i)];
-            // Ties at exactly `best` go to the lower surface index, as in a loop over the surfaces.
-            const double limit = std::nextafter(l.best, std::numeric_limits<double>::infinity());
-            const auto d = surface.front_distance(*l.ray, 0.0, limit);
+            const auto d = surface.front_distance(*l.ray, 0.0, l.next);
             if (!d || (*d == l.best && l.surface < k)) continue;
             l.best = *d;
             l.surface = k;
-            l.limit = limit;
+            l.limit = l.next;
+            l.next = std::nextafter(*d, std::numeric_limits<double>::infinity());
             // Generous in float: traversal rounding must not prune a box holding a nearer hit.
             RTCRayN_tfar(rays, n, i) = float_up((*d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
             RTCHitN_geomID(hits, n, i) = args->geomID;
@@ -125,15 +127,18 @@ struct RayIndex::Impl {
         const double a = glm::dot(ray.dir, ray.dir), b = glm::dot(oc, ray.dir),
                      c = glm::dot(oc, oc) - radius * radius;
         if (!(a > 0.0)) return false;
-        const double disc = b * b - a * c;
-        if (!(disc >= 0.0)) return false;
-        const double root = std::sqrt(disc);
-        const double t_out = (-b + root) / a;
-        if (!(t_out > 0.0)) return false;
         Lane& l = q->lanes[id];
+        l.shift = 0.0;  // a ray from inside the ball (a camera in the scene) starts where it is
+        if (!(c < 0.0)) {
+            const double disc = b * b - a * c;
+            if (!(disc >= 0.0)) return false;
+            const double root = std::sqrt(disc);
+            const double t_out = (-b + root) / a;
+            if (!(t_out > 0.0)) return false;
+            l.shift = std::max(0.0, (-b - root) / a);
+        }
         l.ray = &ray;
-        l.shift = std::max(0.0, (-b - root) / a);
-        l.best = std::numeric_limits<double>::infinity();
+        l.best = l.next = std::numeric_limits<double>::infinity();
         l.surface = -1;
         *org = oc + l.shift * ray.dir;
         return true;
