@@ -7,13 +7,16 @@
 namespace radiosa {
 
 namespace {
+// Sub-pixel ray (sx, sy) of pixel (x, y): the centres of an n x n grid of cells.
+Ray sample_ray(const PinholeCamera& cam, int x, int y, int sx, int sy, int n) {
+    return cam.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n);
+}
 // Calls f(hit or nullptr) for every sub-pixel ray of pixel (x, y).
 template <class F>
 void for_each_sample(const SceneGeometry& geo, const PinholeCamera& cam, int samples, int x, int y, F&& f) {
     for (int sy = 0; sy < samples; ++sy)
         for (int sx = 0; sx < samples; ++sx) {
-            const Ray r = cam.ray(x + (sx + 0.5) / samples, y + (sy + 0.5) / samples);
-            const auto hit = geo.intersect_front(r);
+            const auto hit = geo.intersect_front(sample_ray(cam, x, y, sx, sy, samples));
             f(hit ? &*hit : nullptr);
         }
 }
@@ -37,7 +40,7 @@ Image render_image(const SceneGeometry& geo, const NodeRadiosity& nodes, const P
             std::size_t r = 0;
             for (int x = 0; x < opt.width; ++x)
                 for (int sy = 0; sy < n; ++sy)
-                    for (int sx = 0; sx < n; ++sx) rays[r++] = cam.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n);
+                    for (int sx = 0; sx < n; ++sx) rays[r++] = sample_ray(cam, x, y, sx, sy, n);
             geo.intersect_front(rays.data(), rays.size(), hits.data());
             r = 0;
             for (int x = 0; x < opt.width; ++x) {
