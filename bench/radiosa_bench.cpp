@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -139,15 +140,23 @@ struct Balls {
     std::vector<Ray> rays;
 };
 
-// args: {balls} x {0 = a loop over every surface, 1 = the BVH (geometry/ray_index.h)}
+// args: {balls} x {0 = a loop over every surface, 1 = the BVH (geometry/ray_index.h) one ray at a
+// time, 2 = the BVH in packets of eight neighbouring rays, as images trace them}
 void Rays_Balls(benchmark::State& state) {
     const Balls b(static_cast<int>(state.range(0)));
-    const bool bvh = state.range(1) == 1;
+    const int mode = static_cast<int>(state.range(1));
     benchmark::DoNotOptimize(b.geometry.intersect_front(b.rays[0]));  // builds the index, untimed
+    std::vector<std::optional<Hit>> found(b.rays.size());
     for (auto _ : state) {
         int hits = 0;
-        for (const Ray& r : b.rays)
-            hits += (bvh ? b.geometry.intersect_front(r) : b.geometry.intersect_front_by_loop(r)).has_value();
+        if (mode == 2) {
+            b.geometry.intersect_front(b.rays.data(), b.rays.size(), found.data());
+            for (const auto& h : found) hits += h.has_value();
+        } else {
+            for (const Ray& r : b.rays)
+                hits += (mode == 1 ? b.geometry.intersect_front(r) : b.geometry.intersect_front_by_loop(r))
+                            .has_value();
+        }
         benchmark::DoNotOptimize(hits);
     }
     state.counters["rays/s"] =
@@ -156,10 +165,13 @@ void Rays_Balls(benchmark::State& state) {
 BENCHMARK(Rays_Balls)
     ->Args({10, 0})
     ->Args({10, 1})
+    ->Args({10, 2})
     ->Args({100, 0})
     ->Args({100, 1})
+    ->Args({100, 2})
     ->Args({1000, 0})
     ->Args({1000, 1})
+    ->Args({1000, 2})
     ->Unit(benchmark::kMillisecond);
 
 // One 1920 x 1080 frame of scenes/spheres-1k.yaml (1,006 surfaces, 31,536 patches) at one ray per
