@@ -184,15 +184,33 @@ public:
         return std::nullopt;
     }
 
-    // What may block the pair on the semi-analytic path: one sphere, or a few flat quads.
+    // What may block the pair on the semi-analytic path: balls whose shadows never overlap as
+    // seen from patch i (so the parts they hide add up), or a few flat quads.
     struct Shadow {
-        std::optional<BoundingSphere> sphere;
+        std::vector<BoundingSphere> spheres;
         std::vector<std::array<Vec3, 4>> flats;  // each occluder's outline
     };
+    static constexpr std::size_t kMaxShadowBalls = 8;
+
+    // Whether two balls' shadows are apart from every point x of a patch in the ball `patch`
+    // (centre p, radius rho): from x, the directions to their centres must be further apart
+    // than the sum of the balls' angular radii. From x instead of p, the direction to a centre
+    // at distance L turns by at most asin(rho / L), and a ball of radius r looks at most
+    // asin(r / (L - rho)) wide.
+    static bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b) {
+        const Vec3 da = a.center - patch.center, db = b.center - patch.center;
+        const double la = glm::length(da), lb = glm::length(db);
+        if (!(la - patch.radius > a.radius && lb - patch.radius > b.radius)) return false;
+        const double apart = std::acos(std::clamp(glm::dot(da, db) / (la * lb), -1.0, 1.0));
+        const double turn = std::asin(patch.radius / la) + std::asin(patch.radius / lb);
+        const double wide = std::asin(a.radius / (la - patch.radius)) + std::asin(b.radius / (lb - patch.radius));
+        return apart - turn - wide > 1e-9;
+    }
 
     // Can F_ij use the closed-form inner integral? j must be planar and nothing may block the
-    // pair except one sphere that lies wholly between patch i and j's plane, or at most
-    // kMaxFlatOccluders planar convex quads (whose shadows on j are polygons).
+    // pair except balls that lie wholly between patch i and j's plane, whose shadows from
+    // patch i never overlap (at most kMaxShadowBalls), or at most kMaxFlatOccluders planar
+    // convex quads (whose shadows on j are polygons).
     bool semi_analytic(int i, int j, const std::vector<int>& blockers, Shadow* shadow) const {
         const Patch& pj = m_geo.patch(j);
         if (!pj.polygon) return false;
@@ -210,18 +228,24 @@ public:
             }
             if (!shadow->flats.empty()) return true;
         }
-        if (blockers.size() != 1) return false;
-        const Surface& s = m_geo.surface(blockers[0]);
-        const auto sph = s.sphere();
-        if (!sph || blockers[0] == pi.surface) return false;
+        if (blockers.size() > kMaxShadowBalls) return false;
         const auto plane = m_geo.surface(pj.surface).plane();
-        if (!plane || plane->signed_distance(sph->center) < sph->radius) return false;
-        // Every point of patch i must lie outside the sphere: exactly for a polygon, by its
-        // bounding sphere otherwise.
-        if (pi.polygon ? distance_to_polygon(sph->center, polygon(i)) <= sph->radius
-                       : glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
-            return false;
-        shadow->sphere = *sph;
+        if (!plane) return false;
+        for (int k : blockers) {
+            // A solid ball: a whole sphere (a dome's shadow is not a cap).
+            const auto sph = m_geo.surface(k).sphere();
+            if (!sph || !m_geo.surface(k).whole_sphere() || k == pi.surface ||
+                plane->signed_distance(sph->center) < sph->radius)
+                return false;
+            // Every point of patch i must lie outside the sphere: exactly for a polygon, by its
+            // bounding sphere otherwise.
+            if (pi.polygon ? distance_to_polygon(sph->center, polygon(i)) <= sph->radius
+                           : glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
+                return false;
+            for (const BoundingSphere& other : shadow->spheres)
+                if (!shadows_apart(pi.bound, other, *sph)) return false;
+            shadow->spheres.push_back(*sph);
+        }
         return true;
     }
 
@@ -230,19 +254,22 @@ public:
     // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const Shadow& shadow, double tol) const {
-        if ((shadow.sphere || !shadow.flats.empty()) && m_geo.patch(i).polygon)
+        if ((!shadow.spheres.empty() || !shadow.flats.empty()) && m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> v = polygon(j);
-        const BoundingSphere* b = shadow.sphere ? &*shadow.sphere : nullptr;
+        const BoundingSphere* b = shadow.spheres.empty() ? nullptr : &shadow.spheres[0];
         auto g = [&](double s, double t) {
             const Vec3 nrm = si.normal(s, t);
             const double da = glm::length(nrm);
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
-            const double hidden =
+            double hidden =
                 shadow.flats.empty() ? 0.0 : point_to_polygon_hidden(x, nrm / da, v.data(), 4, shadow.flats);
+            // The other balls' shadows never overlap the first's or each other's.
+            for (std::size_t k = 1; k < shadow.spheres.size(); ++k)
+                hidden += point_to_polygon_blocked(x, nrm / da, v.data(), 4, shadow.spheres[k]);
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) - hidden);
         };
         // A region much larger than its distance to the receiver may hide a near-singularity
@@ -256,7 +283,7 @@ public:
             events.add_plane(glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]),
                              v[0]);
         }
-        if (b) events.add_sphere(v, *b);
+        for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(v, ball);
         events.add_flats(v, shadow.flats);
         auto geometric = [&](const Rect& r, double fine) {
             // A shadow's edge makes the integrand only once differentiable where it sweeps
@@ -324,8 +351,11 @@ public:
         auto g = [&](double s, double t) {
             const double da = glm::length(si.normal(s, t));
             const Vec3 x = si.point(s, t);
-            return da * (shadow.sphere ? point_to_polygon_blocked(x, unit, vj.data(), 4, *shadow.sphere)
-                                       : point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats));
+            if (shadow.spheres.empty()) return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
+            double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
+            for (const BoundingSphere& ball : shadow.spheres)
+                blocked += point_to_polygon_blocked(x, unit, vj.data(), 4, ball);
+            return da * blocked;
         };
         // Does some segment from the region to patch j meet an occluder? Every such segment
         // lies in the convex hull of the region's corners and j's.
@@ -342,9 +372,9 @@ public:
                                               vj[1],
                                               vj[2],
                                               vj[3]};
-            if (shadow.sphere) {
-                const std::array<Vec3, 1> c = {shadow.sphere->center};
-                return convex_distance(hull, c, shadow.sphere->radius) <= shadow.sphere->radius;
+            for (const BoundingSphere& ball : shadow.spheres) {
+                const std::array<Vec3, 1> c = {ball.center};
+                if (convex_distance(hull, c, ball.radius) <= ball.radius) return true;
             }
             for (const auto& q : shadow.flats)
                 if (convex_distance(hull, q, m_base.eps()) <= m_base.eps()) return true;
@@ -361,7 +391,7 @@ public:
         const double s_len = glm::length(si.point(pi.s1, pi.t0) - si.point(pi.s0, pi.t0)),
                      t_len = glm::length(si.point(pi.s0, pi.t1) - si.point(pi.s0, pi.t0));
         EventSet events;
-        if (shadow.sphere) events.add_sphere(vj, *shadow.sphere);
+        for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(vj, ball);
         events.add_flats(vj, shadow.flats);
         auto geometric = [&](const Rect& r, double fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
@@ -371,7 +401,7 @@ public:
             return Cut{events.split_toward(si, r, ws * s_len >= wt * t_len ? 0 : 1)};
         };
         const double region_tol = pair_tol - open.error;
-        const double fraction = shadow.sphere ? kSphereKinkFraction : kFlatKinkFraction;
+        const double fraction = shadow.spheres.empty() ? kFlatKinkFraction : kSphereKinkFraction;
         Estimate hidden =
             adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, kMaxOuterRegions, m_outer,
                           geometric, [&](const Rect& r, double fine) {

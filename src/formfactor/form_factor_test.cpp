@@ -140,6 +140,75 @@ TEST(FormFactor, OccluderBlocksAndVisibilityCanBeTurnedOff) {
     EXPECT_GT(fb.stats.segment_tests, 0);
 }
 
+namespace {
+std::string ball(const std::string& name, double x, double y, double z, double r) {
+    return "  - {name: " + name + ", type: sphere, center: [" + std::to_string(x) + ", " + std::to_string(y) +
+           ", " + std::to_string(z) + "], radius: " + std::to_string(r) +
+           ", patches: [4, 2], reflectance: [0, 0, 0]}\n";
+}
+}  // namespace
+
+// Two balls between a floor of small patches and a one-patch ceiling, far enough apart that
+// from no point of the floor do their shadows overlap, both between most floor patches and the
+// ceiling: the parts they hide add up, so every floor-to-ceiling entry with both equals the
+// entry with one plus the entry with the other minus the entry with neither, to the four
+// estimates. With both balls every integral meets the tight tolerance (the closed-form shadow
+// of each ball; the numeric path would stop at its region cap).
+TEST(FormFactor, ShadowsOfBallsApartAddUp) {
+    const std::string plates = quad("a", test::kFloor, 8, 8) + quad("b", test::kCeiling);
+    const std::string b1 = ball("b1", 0.3, 0.5, 0.5, 0.05), b2 = ball("b2", 0.7, 0.45, 0.5, 0.05);
+    const FormFactorOptions o = FormFactorOptions::adaptive(1e-9);
+    const auto ff = [&](const std::string& extra) {
+        return compute_form_factors(SceneGeometry(scene_of(plates + extra)), o);
+    };
+    const FormFactors f0 = ff(""), f1 = ff(b1), f2 = ff(b2), both = ff(b1 + b2);
+    EXPECT_EQ(both.stats.capped, 0);
+    int shadowed = 0;
+    const int j = 64;  // the ceiling
+    for (int i = 0; i < 64; ++i) {
+        const auto at = [&](const FormFactors& f) { return f.F(i, j); };
+        const auto err = [&](const FormFactors& f) { return f.error[static_cast<std::size_t>(i) * f.F.n + j]; };
+        EXPECT_NEAR(at(both), at(f1) + at(f2) - at(f0), err(both) + err(f1) + err(f2) + err(f0)) << i;
+        EXPECT_LE(err(both), 1e-9) << i;
+        shadowed += at(f0) - at(f1) > 1e-4 && at(f0) - at(f2) > 1e-4;
+    }
+    EXPECT_GT(shadowed, 20);  // floor patches both balls take something from
+}
+
+// Two balls one above the other: from the floor their shadows overlap, and the part they hide
+// together is less than the sum of their parts (here by 14 % of the upper one's part).
+TEST(FormFactor, ShadowsOfBallsThatOverlapAreNotAddedUp) {
+    const std::string plates = quad("a", test::kFloor, 2, 2) + quad("b", test::kCeiling, 2, 2);
+    const std::string low = ball("low", 0.5, 0.5, 0.3, 0.1), high = ball("high", 0.5, 0.5, 0.7, 0.1);
+    const FormFactorOptions o = FormFactorOptions::adaptive(1e-7);
+    const auto total = [&](const std::string& extra) {  // the floor's exchange with the ceiling
+        const FormFactors f = compute_form_factors(SceneGeometry(scene_of(plates + extra)), o);
+        double t = 0.0;
+        for (int i = 0; i < 4; ++i)
+            for (int j = 4; j < 8; ++j) t += f.area[static_cast<std::size_t>(i)] * f.F(i, j);
+        return t;
+    };
+    const double t0 = total(""), tl = total(low), th = total(high), both = total(low + high);
+    EXPECT_LT(both, tl);                                // the upper ball still hides something
+    EXPECT_GT(both - (tl + th - t0), 0.1 * (t0 - th));  // but part of its shadow is already dark
+}
+
+// A dome (the upper half of a sphere) between two plates hides less than the whole ball: lines
+// that cross only the ball's lower half pass under the dome. It is not a solid ball, so its
+// shadow is not taken as a ball's cap (it was, and F came out as the ball's, 0.0839).
+TEST(FormFactor, ADomeIsNotASolidBall) {
+    const std::string plates = quad("a", test::kFloor) + quad("b", test::kCeiling);
+    const std::string shape = "  - {name: d, type: sphere, center: [0.5, 0.5, 0.5], radius: 0.3, patches: [4, 2], ";
+    const auto f_ab = [&](const std::string& extra) {
+        return compute_form_factors(SceneGeometry(scene_of(plates + shape + extra)), FormFactorOptions::adaptive(1e-6))
+            .F(0, 1);
+    };
+    const double whole = f_ab("reflectance: [0, 0, 0]}\n"), dome = f_ab("polar_deg: [0, 90], reflectance: [0, 0, 0]}\n");
+    EXPECT_NEAR(whole, 0.0839119, 1e-6);
+    EXPECT_GT(dome, whole + 1e-3);
+    EXPECT_LT(dome, analytic::parallel_rectangles(1, 1, 1));
+}
+
 // One thread and more threads than cores (8 on 2) give bit-identical matrices, for the fixed
 // rule and for error control.
 TEST(FormFactor, ResultDoesNotDependOnThreadCount) {
