@@ -203,7 +203,8 @@ public:
         if (!(la - patch.radius > a.radius && lb - patch.radius > b.radius)) return false;
         const double apart = std::acos(std::clamp(glm::dot(da, db) / (la * lb), -1.0, 1.0));
         const double turn = std::asin(patch.radius / la) + std::asin(patch.radius / lb);
-        const double wide = std::asin(a.radius / (la - patch.radius)) + std::asin(b.radius / (lb - patch.radius));
+        const double wide =
+            std::asin(a.radius / (la - patch.radius)) + std::asin(b.radius / (lb - patch.radius));
         return apart - turn - wide > 1e-9;
     }
 
@@ -351,7 +352,8 @@ public:
         auto g = [&](double s, double t) {
             const double da = glm::length(si.normal(s, t));
             const Vec3 x = si.point(s, t);
-            if (shadow.spheres.empty()) return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
+            if (shadow.spheres.empty())
+                return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
             double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
             for (const BoundingSphere& ball : shadow.spheres)
                 blocked += point_to_polygon_blocked(x, unit, vj.data(), 4, ball);

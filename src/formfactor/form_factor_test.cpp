@@ -167,7 +167,9 @@ TEST(FormFactor, ShadowsOfBallsApartAddUp) {
     const int j = 64;  // the ceiling
     for (int i = 0; i < 64; ++i) {
         const auto at = [&](const FormFactors& f) { return f.F(i, j); };
-        const auto err = [&](const FormFactors& f) { return f.error[static_cast<std::size_t>(i) * f.F.n + j]; };
+        const auto err = [&](const FormFactors& f) {
+            return f.error[static_cast<std::size_t>(i) * f.F.n + j];
+        };
         EXPECT_NEAR(at(both), at(f1) + at(f2) - at(f0), err(both) + err(f1) + err(f2) + err(f0)) << i;
         EXPECT_LE(err(both), 1e-9) << i;
         shadowed += at(f0) - at(f1) > 1e-4 && at(f0) - at(f2) > 1e-4;
@@ -198,12 +200,15 @@ TEST(FormFactor, ShadowsOfBallsThatOverlapAreNotAddedUp) {
 // shadow is not taken as a ball's cap (it was, and F came out as the ball's, 0.0839).
 TEST(FormFactor, ADomeIsNotASolidBall) {
     const std::string plates = quad("a", test::kFloor) + quad("b", test::kCeiling);
-    const std::string shape = "  - {name: d, type: sphere, center: [0.5, 0.5, 0.5], radius: 0.3, patches: [4, 2], ";
+    const std::string shape =
+        "  - {name: d, type: sphere, center: [0.5, 0.5, 0.5], radius: 0.3, patches: [4, 2], ";
     const auto f_ab = [&](const std::string& extra) {
-        return compute_form_factors(SceneGeometry(scene_of(plates + shape + extra)), FormFactorOptions::adaptive(1e-6))
+        return compute_form_factors(SceneGeometry(scene_of(plates + shape + extra)),
+                                    FormFactorOptions::adaptive(1e-6))
             .F(0, 1);
     };
-    const double whole = f_ab("reflectance: [0, 0, 0]}\n"), dome = f_ab("polar_deg: [0, 90], reflectance: [0, 0, 0]}\n");
+    const double whole = f_ab("reflectance: [0, 0, 0]}\n"),
+                 dome = f_ab("polar_deg: [0, 90], reflectance: [0, 0, 0]}\n");
     EXPECT_NEAR(whole, 0.0839119, 1e-6);
     EXPECT_GT(dome, whole + 1e-3);
     EXPECT_LT(dome, analytic::parallel_rectangles(1, 1, 1));
