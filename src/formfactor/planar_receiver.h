@@ -1,0 +1,51 @@
+#pragma once
+// Form factors toward a planar patch (a polygon) with the inner integral in closed form: the
+// point-to-polygon formula (Lambert's), minus what occluders hide. The occluders this path
+// accepts are whole balls whose shadows never overlap as seen from the source patch (each
+// hides a part of the polygon in closed form: formfactor/point_polygon.h) or a few flat convex
+// quads (their shadows on the polygon are polygons). Between two polygons with occluders the
+// unblocked exchange is the contour integral and only the shadow is integrated over the source
+// patch. The outer integral is adaptive, cut along shadow edges and horizons
+// (formfactor/events.h).
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "formfactor/cubature.h"
+#include "geometry/scene_geometry.h"
+#include "util/gauss_legendre.h"
+
+namespace radiosa {
+
+// What may block the pair on this path: balls whose shadows never overlap as seen from patch i
+// (so the parts they hide add up), or a few flat quads.
+struct PlanarReceiver {
+    std::vector<BoundingSphere> spheres;
+    std::vector<std::array<Vec3, 4>> flats;  // each occluder's outline
+};
+
+// At most this many balls between a pair.
+inline constexpr std::size_t kMaxShadowBalls = 8;
+
+// Whether two balls' shadows are apart from every point x of a patch in the ball `patch`
+// (centre p, radius rho): from x, the directions to their centres must be further apart than
+// the sum of the balls' angular radii. From x instead of p, the direction to a centre at
+// distance L turns by at most asin(rho / L), and a ball of radius r looks at most
+// asin(r / (L - rho)) wide.
+bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b);
+
+// Whether F_ij can take this path: j must be planar and nothing may block the pair except balls
+// that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
+// most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads. `blockers` are the
+// pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
+std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
+                                              const std::vector<int>& blockers, bool visibility);
+
+// A_i F_ij with the closed-form inner integral; error estimate on the same scale. The target
+// is tol x min(A_i, A_j), not tol x A_i: the energy two patches exchange is then accurate to
+// tol times what the smaller one sends, so a big patch's entry for a tiny emitter (a 1e-8
+// spark of radiosity 1e8) is as good as the emitter's own row.
+Estimate area_times_f_planar(const SceneGeometry& g, int i, int j, const PlanarReceiver& how, double tol,
+                             const GaussRule& outer, int max_regions);
+
+}  // namespace radiosa
