@@ -20,6 +20,20 @@ inline std::string quad(const std::string& name, const std::string& corners, int
            std::to_string(ns) + ", " + std::to_string(nt) + "]\n    reflectance: " + rho + "\n";
 }
 
+// Three unit squares 4 x 4 (a floor at z = -1, a ceiling at z = 1, a side wall at x = 0.5) and
+// a ball of radius 0.3 near the wall, 8 x 4: ball patches see the squares past their horizons, the
+// floor and ceiling see each other around the ball's shadow, the wall sees the ball from 0.1 away.
+inline std::string ball_beside_walls() {
+    return quad("low", "[[-0.5, -0.5, -1], [0.5, -0.5, -1], [0.5, 0.5, -1], [-0.5, 0.5, -1]]", 4, 4,
+                "[0.5, 0.5, 0.5]") +
+           quad("high", "[[-0.5, -0.5, 1], [-0.5, 0.5, 1], [0.5, 0.5, 1], [0.5, -0.5, 1]]", 4, 4,
+                "[0.5, 0.5, 0.5]") +
+           quad("side", "[[0.5, -0.5, -1], [0.5, -0.5, 1], [0.5, 0.5, 1], [0.5, 0.5, -1]]", 4, 4,
+                "[0.5, 0.5, 0.5]") +
+           "  - {name: ball, type: sphere, center: [0.1, 0.05, 0], radius: 0.3, patches: [8, 4], "
+           "reflectance: [0.5, 0.5, 0.5]}\n";
+}
+
 inline Scene scene_of(const std::string& surfaces, bool closed = false) {
     return parse_scene(std::string("closed: ") + (closed ? "true" : "false") + "\nsurfaces:\n" + surfaces,
                        "test.yaml");
