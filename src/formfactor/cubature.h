@@ -109,6 +109,18 @@ double tensor_gauss(const G& g, const Rect& r, const GaussRule& rule) {
     return sum * hs * ht;
 }
 
+// The rule on each of the region's 3 x 3 thirds: nodes away from those of its halves.
+template <class G>
+double gauss_thirds(const G& g, const Rect& r, const GaussRule& rule) {
+    double sum = 0.0;
+    const double ds = (r.s1 - r.s0) / 3.0, dt = (r.t1 - r.t0) / 3.0;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            sum += tensor_gauss(
+                g, Rect{r.s0 + a * ds, r.s0 + (a + 1) * ds, r.t0 + b * dt, r.t0 + (b + 1) * dt}, rule);
+    return sum;
+}
+
 // `leaves`, if given, receives the final regions (to integrate a companion quantity over them).
 template <class G, class Geo, class Sus = NoSuspects>
 Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions, const GaussRule& rule,
@@ -125,14 +137,8 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     };
     // The 3 x 3 check of a region geometry puts an event in.
     auto check = [&](auto& reg) {
-        const Rect& r = reg.r;
-        if (!suspect(r, reg.fine)) return;
-        double thirds = 0.0;
-        const double ds = (r.s1 - r.s0) / 3.0, dt = (r.t1 - r.t0) / 3.0;
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b)
-                thirds += gauss(Rect{r.s0 + a * ds, r.s0 + (a + 1) * ds, r.t0 + b * dt, r.t0 + (b + 1) * dt});
-        reg.err = std::max(reg.err, kSafety * std::abs(thirds - reg.fine));
+        if (suspect(reg.r, reg.fine))
+            reg.err = std::max(reg.err, kSafety * std::abs(gauss_thirds(g, reg.r, rule) - reg.fine));
     };
     auto make = [&](const Rect& r, double coarse) {
         Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, 0.0, 0.0};

@@ -41,10 +41,6 @@ public:
                 hidden += point_to_polygon_blocked(x, nrm / da, v.data(), 4, shadow.spheres[k]);
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) - hidden);
         };
-        // A region much larger than its distance to the receiver may hide a near-singularity
-        // between its Gauss nodes (patches a hair apart): split it along the direction in which
-        // that distance changes most, until it is no larger than the distance. Touching
-        // patches (distance 0) are left to the error estimate: their integrand is bounded.
         EventSet events;
         if (!pi.polygon) {
             events.add_horizons(v);
@@ -79,18 +75,7 @@ public:
                                               si.point(0.5 * (r.s0 + r.s1), r.t0));
                 return Cut{events.split_toward(si, r, ls >= lt ? 0 : 1)};
             }
-            const Vec3 c00 = si.point(r.s0, r.t0), c10 = si.point(r.s1, r.t0), c01 = si.point(r.s0, r.t1),
-                       c11 = si.point(r.s1, r.t1);
-            const double d00 = distance_to_polygon(c00, v), d10 = distance_to_polygon(c10, v),
-                         d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
-            const double dmin = std::min({d00, d10, d01, d11});
-            if (!(dmin > 0.0)) return Cut{};
-            const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01),
-                         var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
-            const int dir = var_t > var_s ? 1 : 0;
-            const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
-                                         : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
-            return Cut{size > dmin ? dir : -1};
+            return split_near(si, r, v);
         };
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area);
         return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
@@ -107,6 +92,25 @@ public:
                                      shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
                                  return std::abs(fine) * fraction > region_tol && events.crosses(si, r);
                              });
+    }
+
+    // A region much larger than its distance to the receiver v may hide a near-singularity
+    // between its Gauss nodes (patches a hair apart): split it along the direction in which that
+    // distance changes most, until it is no larger than the distance. Touching patches
+    // (distance 0) are left to the error estimate: their integrand is bounded.
+    static Cut split_near(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v) {
+        const Vec3 c00 = si.point(r.s0, r.t0), c10 = si.point(r.s1, r.t0), c01 = si.point(r.s0, r.t1),
+                   c11 = si.point(r.s1, r.t1);
+        const double d00 = distance_to_polygon(c00, v), d10 = distance_to_polygon(c10, v),
+                     d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
+        const double dmin = std::min({d00, d10, d01, d11});
+        if (!(dmin > 0.0)) return Cut{};
+        const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01),
+                     var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
+        const int dir = var_t > var_s ? 1 : 0;
+        const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
+                                     : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
+        return Cut{size > dmin ? dir : -1};
     }
 
     // A_i F_ij for two polygons with a sphere or flat quads between them: the unblocked
