@@ -302,7 +302,7 @@ public:
                 i, j, pf.has_value(), pb.has_value(),
                 [&](int a, int b) {
                     return area_times_f_planar(m_geo, a, b, a == i ? *pf : *pb, tol, m_outer,
-                                               kMaxOuterRegions);
+                                               kMaxOuterRegions, m_base.eps());
                 },
                 set, st);
             return;

@@ -15,8 +15,8 @@ namespace {
 // The outer integrals of the planar-receiver path, over patch i of the geometry.
 class PlanarIntegrator {
 public:
-    PlanarIntegrator(const SceneGeometry& g, const GaussRule& outer, int max_regions)
-        : m_geo(g), m_outer(outer), m_max_regions(max_regions), m_eps(1e-12 * g.scale()) {}
+    PlanarIntegrator(const SceneGeometry& g, const GaussRule& outer, int max_regions, double eps)
+        : m_geo(g), m_outer(outer), m_max_regions(max_regions), m_eps(eps) {}
 
     // A_i F_ij with the inner integral in closed form; error estimate on the same scale. The
     // target is tol x min(A_i, A_j), not tol x A_i: the energy two patches exchange is then
@@ -205,7 +205,7 @@ private:
     const SceneGeometry& m_geo;
     const GaussRule& m_outer;
     int m_max_regions;
-    double m_eps;  // lengths below this are zero at the scene's scale (as Culling::eps)
+    double m_eps;  // lengths below this are zero at the scene's scale (Culling::eps)
 };
 
 }  // namespace
@@ -260,8 +260,8 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
 }
 
 Estimate area_times_f_planar(const SceneGeometry& g, int i, int j, const PlanarReceiver& how, double tol,
-                             const GaussRule& outer, int max_regions) {
-    return PlanarIntegrator(g, outer, max_regions).area_times_f_semi(i, j, how, tol);
+                             const GaussRule& outer, int max_regions, double eps) {
+    return PlanarIntegrator(g, outer, max_regions, eps).area_times_f_semi(i, j, how, tol);
 }
 
 }  // namespace radiosa

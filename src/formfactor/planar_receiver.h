@@ -44,8 +44,9 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
 // A_i F_ij with the closed-form inner integral; error estimate on the same scale. The target
 // is tol x min(A_i, A_j), not tol x A_i: the energy two patches exchange is then accurate to
 // tol times what the smaller one sends, so a big patch's entry for a tiny emitter (a 1e-8
-// spark of radiosity 1e8) is as good as the emitter's own row.
+// spark of radiosity 1e8) is as good as the emitter's own row. `eps`: lengths below it are zero
+// at the scene's scale (Culling::eps).
 Estimate area_times_f_planar(const SceneGeometry& g, int i, int j, const PlanarReceiver& how, double tol,
-                             const GaussRule& outer, int max_regions);
+                             const GaussRule& outer, int max_regions, double eps);
 
 }  // namespace radiosa
