@@ -31,9 +31,13 @@ struct Rect {
 
 // A split a geometric rule demands: along s (dir 0) or t (dir 1), at `at` (NaN: the midpoint);
 // dir -1 demands none. Rules that only ever split at midpoints may return the direction alone.
+// With a `bound` (not NaN) nothing is demanded: geometry proves the integral over the region in
+// [0, bound] (a region that may see a sliver its nodes miss, and what that sliver can be worth
+// at most); the region then splits along `dir` only if its error is among the largest.
 struct Cut {
     int dir = -1;
     double at = std::numeric_limits<double>::quiet_NaN();
+    double bound = std::numeric_limits<double>::quiet_NaN();
 };
 inline Cut as_cut(int dir) { return Cut{dir}; }
 inline Cut as_cut(Cut c) { return c; }
@@ -82,10 +86,15 @@ struct Estimate {
 // shadow's edge sweeping across a patch, a hair-thin gap); measured on the configurations of
 // `radiosa accuracy`, true errors reached 3x the raw estimate, so estimates are scaled by 4.
 // Worse, every nested rule splits at the same midlines, so a kink lying near one is missed by
-// all of them alike. `suspect(r)` says when geometry puts such an event (a visibility or
-// horizon change) inside the region: its estimate then also compares the value with a 3 x 3
-// split, whose nodes lie elsewhere.
+// all of them alike. `suspect(r, fine)` says whether geometry puts such an event (a visibility
+// or horizon change) inside the region, and how to count it: kCheckRegion, the estimate also
+// compares the value with a 3 x 3 split, whose nodes lie elsewhere; a fraction f > 0 of the
+// region's value that such a kink can cost at most, f |fine| is added to the estimate, and the
+// 3 x 3 check replaces it only if the region comes to have the largest estimate (so a loose
+// tolerance pays for no checks, a tight one for no splits a check would have spared); 0, no
+// event.
 constexpr double kSafety = 4.0;
+inline constexpr double kCheckRegion = std::numeric_limits<double>::infinity();
 // Regions wider than half the root along s (then t) are halved there: the first two levels of
 // splitting, for integrands whose kinks an estimate over the whole root can miss.
 inline Cut quarter_of(const Rect& root, const Rect& r) {
@@ -95,7 +104,7 @@ inline Cut quarter_of(const Rect& root, const Rect& r) {
 }
 
 struct NoSuspects {
-    bool operator()(const Rect&, double) const { return false; }
+    double operator()(const Rect&, double) const { return 0.0; }
 };
 
 // The tensor Gauss rule over a region.
@@ -121,27 +130,51 @@ double gauss_thirds(const G& g, const Rect& r, const GaussRule& rule) {
     return sum;
 }
 
-// `leaves`, if given, receives the final regions (to integrate a companion quantity over them).
-template <class G, class Geo, class Sus = NoSuspects>
-Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions, const GaussRule& rule,
-                       const Geo& geometric, const Sus& suspect = {}, std::vector<Rect>* leaves = nullptr) {
-    auto gauss = [&](const Rect& r) { return tensor_gauss(g, r, rule); };
-    struct Region {
-        Rect r;
-        std::array<double, 2> half;  // the two parts along `dir` (cut at `at`)
-        int dir;
-        double at;
-        bool forced;
-        double fine, err;
-        double key() const { return forced ? std::numeric_limits<double>::infinity() : err; }
-    };
-    // The 3 x 3 check of a region geometry puts an event in.
-    auto check = [&](auto& reg) {
-        if (suspect(reg.r, reg.fine))
-            reg.err = std::max(reg.err, kSafety * std::abs(gauss_thirds(g, reg.r, rule) - reg.fine));
-    };
-    auto make = [&](const Rect& r, double coarse) {
-        Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, 0.0, 0.0};
+namespace detail {
+
+// A region of adaptive_rect: its p x p value split along `dir` and what its estimate holds.
+struct Region {
+    Rect r;
+    std::array<double, 2> half;  // the two parts along `dir` (cut at `at`)
+    int dir;
+    double at;
+    bool forced;
+    double fine, err;
+    double kink;  // the part of err that is a kink's largest share, not yet measured
+    double key() const { return forced ? std::numeric_limits<double>::infinity() : err; }
+};
+
+// How adaptive_rect makes its regions, and checks the ones geometry puts an event in.
+template <class G, class Geo, class Sus>
+class RegionRules {
+public:
+    RegionRules(const G& g, const GaussRule& rule, const Geo& geometric, const Sus& suspect)
+        : m_g(g), m_rule(rule), m_geometric(geometric), m_suspect(suspect) {}
+
+    double gauss(const Rect& r) const { return tensor_gauss(m_g, r, m_rule); }
+
+    // The 3 x 3 check: the kink measured instead of counted at its largest share.
+    void measure(Region& reg) const {
+        reg.err =
+            std::max(reg.err - reg.kink, kSafety * std::abs(gauss_thirds(m_g, reg.r, m_rule) - reg.fine));
+        reg.kink = 0.0;
+    }
+
+    // A region geometry puts an event in: checked now, or its kink counted at its largest share
+    // until the refinement would split the region for it (then it is checked instead).
+    void check(Region& reg) const {
+        const double kink = m_suspect(reg.r, reg.fine);
+        if (kink == kCheckRegion) {
+            measure(reg);
+        } else if (kink > 0.0) {
+            reg.kink = kink * std::abs(reg.fine);
+            reg.err += reg.kink;
+        }
+    }
+
+    // A region from its coarse value (known from its parent's split).
+    Region make(const Rect& r, double coarse) const {
+        Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, 0.0, 0.0, 0.0};
         std::array<std::array<double, 2>, 2> h;
         std::array<double, 2> e;
         for (int d = 0; d < 2; ++d) {
@@ -149,9 +182,10 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
             h[d] = {gauss(hv[0]), gauss(hv[1])};
             e[d] = std::abs(h[d][0] + h[d][1] - coarse);
         }
-        const Cut forced = as_cut(geometric(r, h[0][0] + h[0][1]));
-        reg.forced = forced.dir >= 0;
-        reg.dir = reg.forced ? forced.dir : (e[1] > e[0] ? 1 : 0);
+        const Cut forced = as_cut(m_geometric(r, h[0][0] + h[0][1]));
+        const bool bounded = !std::isnan(forced.bound);
+        reg.forced = forced.dir >= 0 && !bounded;
+        reg.dir = forced.dir >= 0 ? forced.dir : (e[1] > e[0] ? 1 : 0);
         reg.half = h[reg.dir];
         if (reg.forced && !std::isnan(forced.at)) {
             // A cut along a known feature (an event line): the parts either side of it.
@@ -164,13 +198,33 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
         // carry the rounding of their sums.
         reg.err = kSafety * (e[0] + e[1]) + 64 * std::numeric_limits<double>::epsilon() * std::abs(reg.fine);
         // A region that geometry forces to split is split whatever its estimate: its check waits
-        // until it is left whole (at the cap), which gives the same estimates for less work (a
-        // sliver search past a ball's horizon checks none of its thousands of regions).
-        if (!reg.forced) check(reg);
+        // until it is left whole (at the cap), which gives the same estimates for less work. A
+        // region with a proven bound needs no check: its value lies in [0, bound], so
+        // |value - fine| <= max(bound, |fine|).
+        if (bounded)
+            reg.err = std::max({reg.err, forced.bound, std::abs(reg.fine)});
+        else if (!reg.forced)
+            check(reg);
         return reg;
-    };
+    }
+
+private:
+    const G& m_g;
+    const GaussRule& m_rule;
+    const Geo& m_geometric;
+    const Sus& m_suspect;
+};
+
+}  // namespace detail
+
+// `leaves`, if given, receives the final regions (to integrate a companion quantity over them).
+template <class G, class Geo, class Sus = NoSuspects>
+Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions, const GaussRule& rule,
+                       const Geo& geometric, const Sus& suspect = {}, std::vector<Rect>* leaves = nullptr) {
+    using detail::Region;
+    const detail::RegionRules<G, Geo, Sus> rules(g, rule, geometric, suspect);
     auto lower = [](const Region& a, const Region& b) { return a.key() < b.key(); };
-    std::vector<Region> heap{make(root, gauss(root))};
+    std::vector<Region> heap{rules.make(root, rules.gauss(root))};
     double err = heap[0].err, value = heap[0].fine;
     // The value when half the regions had been spent: if the cap stops the refinement, how much
     // the value still moved over the second half bounds the error from below, where the
@@ -179,20 +233,29 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     while ((err > tol || heap.front().forced) && static_cast<int>(heap.size()) < max_regions) {
         if (!value_at_half && 2 * static_cast<int>(heap.size()) >= max_regions) value_at_half = value;
         std::pop_heap(heap.begin(), heap.end(), lower);
-        const Region top = heap.back();
+        Region top = heap.back();
         heap.pop_back();
+        if (top.kink > 0.0) {
+            // Largest only by its counted kink: measure it before splitting for it.
+            err -= top.err;
+            rules.measure(top);
+            err += top.err;
+            heap.push_back(top);
+            std::push_heap(heap.begin(), heap.end(), lower);
+            continue;
+        }
         const auto hv = top.r.cut(top.dir, top.at);
         err -= top.err;
         value -= top.fine;
         for (int k = 0; k < 2; ++k) {
-            heap.push_back(make(hv[k], top.half[k]));
+            heap.push_back(rules.make(hv[k], top.half[k]));
             err += heap.back().err;
             value += heap.back().fine;
             std::push_heap(heap.begin(), heap.end(), lower);
         }
     }
     for (Region& r : heap)
-        if (r.forced) check(r);
+        if (r.forced) rules.check(r);
     Estimate e;
     for (const Region& r : heap) {
         e.value += r.fine;

@@ -14,12 +14,12 @@
 
 namespace radiosa {
 
-// A region's 3 x 3 check (cubature.h) is skipped when even a kink error of this fraction of its
-// value would be below the whole integral's tolerance. A sphere's outline meeting an edge, or an
-// arc of what a point sees on a sphere passing a corner, bends the integrand smoothly (the
-// largest such error measured on the seed scene was 1.6e-5 of the region's value, a quarter
-// patch of the floor against a wall patch at tolerance 1e-9); a flat occluder's edge meeting a
-// corner breaks its slope, so those regions are always checked.
+// The largest share of a region's value that a kink inside it can cost (cubature.h's `suspect`). A
+// sphere's outline meeting an edge, or an arc of what a point sees on a sphere passing a
+// corner, bends the integrand smoothly (the largest such error measured on the seed scene was
+// 1.6e-5 of the region's value, a quarter patch of the floor against a wall patch at tolerance
+// 1e-9); a flat occluder's edge meeting a corner breaks its slope, so its share is the whole
+// value.
 inline constexpr double kSphereKinkFraction = 1e-4;
 inline constexpr double kFlatKinkFraction = 1.0;
 

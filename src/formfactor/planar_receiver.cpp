@@ -66,32 +66,69 @@ public:
             // the seed room's sphere: 4,096 regions a pair, 30 s instead of 3.5 s for the room,
             // entries moving by 8e-8 at tolerance 1e-6); the kink test below still refines
             // where a shadow's edge crosses.
-            if (fine == 0.0 && !b && !events.empty() &&
-                std::max((r.s1 - r.s0) / (pi.s1 - pi.s0), (r.t1 - r.t0) / (pi.t1 - pi.t0)) > 1e-6 &&
-                events.crosses(si, r)) {
+            // On a sphere, what the sliver can be worth is bounded (sliver_bound): the region
+            // is then refined like any other, by its share of the error, and the search ends
+            // when the bounds are small enough instead of at the cap.
+            if (fine == 0.0 && !b && !events.empty() && events.crosses(si, r)) {
                 const double ls = glm::length(si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
                                               si.point(r.s0, 0.5 * (r.t0 + r.t1))),
                              lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
                                               si.point(0.5 * (r.s0 + r.s1), r.t0));
-                return Cut{events.split_toward(si, r, ls >= lt ? 0 : 1)};
+                const int dir = events.split_toward(si, r, ls >= lt ? 0 : 1);
+                const double bound = sliver_bound(si, r, v, m_geo.patch(j).area);
+                if (std::isfinite(bound)) {
+                    const Cut near = split_near(si, r, v);
+                    return near.dir >= 0 ? near : Cut{dir, std::numeric_limits<double>::quiet_NaN(), bound};
+                }
+                if (std::max((r.s1 - r.s0) / (pi.s1 - pi.s0), (r.t1 - r.t0) / (pi.t1 - pi.t0)) > 1e-6)
+                    return Cut{dir};
             }
             return split_near(si, r, v);
         };
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area);
+        // On a curved patch the events are x's horizon passing the receiver's corners: past one,
+        // a sliver of the region sees a corner of j that its nodes do not, whatever the region's
+        // value (a ball's patch beside a wall gave 7.8e-12 for 3.4e-10, estimate 3.1e-11; and
+        // 3.6e-7 off with an estimate of 1.4e-7 where a kink fraction had skipped the check).
+        // Every region one crosses takes the 3 x 3 check: about 15 % more time on the seed scene,
+        // the same regions and values. A shadow's outline costs at most its kink fraction.
+        auto suspect = [&](const Rect& r, double) {
+            if (!events.crosses(si, r)) return 0.0;
+            if (!pi.polygon) return kCheckRegion;
+            return shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
+        };
         return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
-                             geometric, [&](const Rect& r, double fine) {
-                                 // On a curved patch the events are x's horizon passing the receiver's
-                                 // corners: past one, a sliver of the region sees a corner of j that its
-                                 // nodes do not, whatever the region's value (a ball's patch beside a wall
-                                 // gave 7.8e-12 for 3.4e-10, estimate 3.1e-11; and 3.6e-7 off with an
-                                 // estimate of 1.4e-7 where the fraction below skipped the check). Every
-                                 // region one crosses takes the 3 x 3 check: about 15 % more time on the
-                                 // seed scene, the same regions and values.
-                                 if (!pi.polygon) return events.crosses(si, r);
-                                 const double fraction =
-                                     shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
-                                 return std::abs(fine) * fraction > region_tol && events.crosses(si, r);
-                             });
+                             geometric, suspect);
+    }
+
+    // At most what a region of a sphere's patch sends to the polygon v (area `area_v`), in
+    // A F: only points y of v above x's tangent plane count, where cos(theta_x) =
+    // n_x . (y - x) / d <= H / d, H the greatest height of a corner of v above the tangent
+    // plane of any x of the region (on a sphere n_x . (y - x) = +-((x - c) . (y - c) - R^2) / R is
+    // linear in x, so Surface::linear_range gives H exactly), and cos(theta_y) = p / d with
+    // d >= p, p the region's least distance to v's plane: F(x -> v) <= H A_v / (pi p^3). Zero when
+    // no corner rises above any tangent plane (the region sees nothing of v); infinite when
+    // the surface is not a sphere or the region reaches v's plane.
+    static double sliver_bound(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v,
+                               double area_v) {
+        const std::optional<BoundingSphere> ball = si.sphere();
+        if (!ball) return std::numeric_limits<double>::infinity();
+        const Vec3 nv =
+            glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]));
+        const double p = si.linear_range(nv, r.s0, r.s1, r.t0, r.t1).first - glm::dot(nv, v[0]);
+        if (!(p > 0.0)) return std::numeric_limits<double>::infinity();
+        const double sm = 0.5 * (r.s0 + r.s1), tm = 0.5 * (r.t0 + r.t1);
+        const double sigma = glm::dot(si.normal(sm, tm), si.point(sm, tm) - ball->center) >= 0.0 ? 1.0 : -1.0;
+        const double R = ball->radius;
+        double h = 0.0;
+        for (const Vec3& corner : v) {
+            const Vec3 a = corner - ball->center;
+            const auto [lo, hi] = si.linear_range(a, r.s0, r.s1, r.t0, r.t1);
+            const double offset = glm::dot(a, ball->center) + R * R;
+            h = std::max(h, sigma > 0.0 ? (hi - offset) / R : (offset - lo) / R);
+        }
+        const double area_r = si.area(r.s0, r.s1, r.t0, r.t1);
+        return area_r * std::min(1.0, h * area_v / (kPi * p * p * p));
     }
 
     // A region much larger than its distance to the receiver v may hide a near-singularity
@@ -184,16 +221,17 @@ public:
         };
         const double region_tol = pair_tol - open.error;
         const double fraction = shadow.spheres.empty() ? kFlatKinkFraction : kSphereKinkFraction;
-        Estimate hidden =
-            adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer, geometric,
-                          [&](const Rect& r, double fine) {
-                              // A region worth less than its tolerance, with an event crossing it and
-                              // segments that may meet the occluder, may be the onset of a shadow whose tip
-                              // its nodes barely see (measured: nodes saw 3e-13 of 1.1e-9, seed scene at
-                              // 1e-10), so its value says nothing about its error: the 3 x 3 split looks too.
-                              return events.crosses(si, r) && (std::abs(fine) * fraction > region_tol ||
-                                                               (std::abs(fine) <= region_tol && reaches(r)));
-                          });
+        // A region worth less than its tolerance, with an event crossing it and segments that may
+        // meet the occluder, may be the onset of a shadow whose tip its nodes barely see
+        // (measured: nodes saw 3e-13 of 1.1e-9, seed scene at 1e-10), so its value says nothing
+        // about its error: the 3 x 3 split looks too.
+        auto suspect = [&](const Rect& r, double fine) {
+            if (!events.crosses(si, r)) return 0.0;
+            if (std::abs(fine) <= region_tol && reaches(r)) return kCheckRegion;
+            return fraction;
+        };
+        Estimate hidden = adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions,
+                                        m_outer, geometric, suspect);
         hidden.value = std::max(0.0, open.value - hidden.value);
         hidden.error += open.error;
         return hidden;

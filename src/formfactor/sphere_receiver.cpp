@@ -295,8 +295,8 @@ Estimate area_times_f_sphere(const SceneGeometry& g, int i, int j, const SphereR
                                    // its directions come close enough, may hold a sliver that
                                    // does (x's horizon just reaching j): the 3 x 3 split looks.
                                    const bool sliver = std::abs(fine) <= region_tol && may_see(r);
-                                   return (std::abs(fine) * kSphereKinkFraction > region_tol || sliver) &&
-                                          events.crosses(si, r);
+                                   if (!events.crosses(si, r)) return 0.0;
+                                   return sliver ? kCheckRegion : kSphereKinkFraction;
                                });
     e.error += inner_err * pi.area;
     return e;
