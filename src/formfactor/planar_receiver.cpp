@@ -12,6 +12,54 @@ namespace radiosa {
 
 namespace {
 
+// At most what a region of a sphere's patch sends to the polygon v (area `area_v`), in A F:
+// only points y of v above x's tangent plane count, where cos(theta_x) = n_x . (y - x) / d <=
+// H / d, H the greatest height of a corner of v above the tangent plane of any x of the region
+// (on a sphere n_x . (y - x) = +-((x - c) . (y - c) - R^2) / R is linear in x, so
+// Surface::linear_range gives H exactly), and cos(theta_y) = p / d with d >= p, p the region's
+// least distance to v's plane: F(x -> v) <= H A_v / (pi p^3). Zero when no corner rises above
+// any tangent plane (the region sees nothing of v); infinite when the surface is not a sphere
+// or the region reaches v's plane. What does not depend on the region is set up once per pair.
+class SliverBound {
+public:
+    SliverBound(const Surface& si, const Patch& pi, const std::array<Vec3, 4>& v, const Vec3& v_normal,
+                double area_v)
+        : m_si(si), m_ball(si.sphere()), m_area_v(area_v) {
+        if (!m_ball) return;
+        m_unit = glm::normalize(v_normal);
+        m_plane = glm::dot(m_unit, v[0]);
+        // Outward normals (+) or inward (-): one sign for the whole sphere.
+        const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
+        m_sigma = glm::dot(si.normal(sm, tm), si.point(sm, tm) - m_ball->center) >= 0.0 ? 1.0 : -1.0;
+        for (int k = 0; k < 4; ++k) {
+            m_a[k] = v[k] - m_ball->center;
+            m_offset[k] = glm::dot(m_a[k], m_ball->center) + m_ball->radius * m_ball->radius;
+        }
+    }
+
+    double operator()(const Rect& r) const {
+        if (!m_ball) return std::numeric_limits<double>::infinity();
+        const double p = m_si.linear_range(m_unit, r.s0, r.s1, r.t0, r.t1).first - m_plane;
+        if (!(p > 0.0)) return std::numeric_limits<double>::infinity();
+        double h = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            const auto [lo, hi] = m_si.linear_range(m_a[k], r.s0, r.s1, r.t0, r.t1);
+            h = std::max(h, (m_sigma > 0.0 ? hi - m_offset[k] : m_offset[k] - lo) / m_ball->radius);
+        }
+        return m_si.area(r.s0, r.s1, r.t0, r.t1) * std::min(1.0, h * m_area_v / (kPi * p * p * p));
+    }
+
+private:
+    const Surface& m_si;
+    std::optional<BoundingSphere> m_ball;
+    double m_area_v;
+    Vec3 m_unit{0.0};  // v's unit front normal
+    double m_plane = 0.0;
+    double m_sigma = 1.0;
+    std::array<Vec3, 4> m_a{};         // corners from the centre
+    std::array<double, 4> m_offset{};  // a . c + R^2: the corner on x's horizon
+};
+
 // The outer integrals of the planar-receiver path, over patch i of the geometry.
 class PlanarIntegrator {
 public:
@@ -41,13 +89,15 @@ public:
                 hidden += point_to_polygon_blocked(x, nrm / da, v.data(), 4, shadow.spheres[k]);
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) - hidden);
         };
+        // The receiver's front normal, times twice its area.
+        const Vec3 v_normal = glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]);
         EventSet events;
         if (!pi.polygon) {
             events.add_horizons(v);
             // Points of a curved patch may pass behind the receiver's plane.
-            events.add_plane(glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]),
-                             v[0]);
+            events.add_plane(v_normal, v[0]);
         }
+        const SliverBound sliver_bound(si, pi, v, v_normal, m_geo.patch(j).area);
         for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(v, ball);
         events.add_flats(v, shadow.flats);
         auto geometric = [&](const Rect& r, double fine) {
@@ -75,7 +125,7 @@ public:
                              lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
                                               si.point(0.5 * (r.s0 + r.s1), r.t0));
                 const int dir = events.split_toward(si, r, ls >= lt ? 0 : 1);
-                const double bound = sliver_bound(si, r, v, m_geo.patch(j).area);
+                const double bound = sliver_bound(r);
                 if (std::isfinite(bound)) {
                     const Cut near = split_near(si, r, v);
                     return near.dir >= 0 ? near : Cut{dir, std::numeric_limits<double>::quiet_NaN(), bound};
@@ -99,36 +149,6 @@ public:
         };
         return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
                              geometric, suspect);
-    }
-
-    // At most what a region of a sphere's patch sends to the polygon v (area `area_v`), in
-    // A F: only points y of v above x's tangent plane count, where cos(theta_x) =
-    // n_x . (y - x) / d <= H / d, H the greatest height of a corner of v above the tangent
-    // plane of any x of the region (on a sphere n_x . (y - x) = +-((x - c) . (y - c) - R^2) / R is
-    // linear in x, so Surface::linear_range gives H exactly), and cos(theta_y) = p / d with
-    // d >= p, p the region's least distance to v's plane: F(x -> v) <= H A_v / (pi p^3). Zero when
-    // no corner rises above any tangent plane (the region sees nothing of v); infinite when
-    // the surface is not a sphere or the region reaches v's plane.
-    static double sliver_bound(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v,
-                               double area_v) {
-        const std::optional<BoundingSphere> ball = si.sphere();
-        if (!ball) return std::numeric_limits<double>::infinity();
-        const Vec3 nv =
-            glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]));
-        const double p = si.linear_range(nv, r.s0, r.s1, r.t0, r.t1).first - glm::dot(nv, v[0]);
-        if (!(p > 0.0)) return std::numeric_limits<double>::infinity();
-        const double sm = 0.5 * (r.s0 + r.s1), tm = 0.5 * (r.t0 + r.t1);
-        const double sigma = glm::dot(si.normal(sm, tm), si.point(sm, tm) - ball->center) >= 0.0 ? 1.0 : -1.0;
-        const double R = ball->radius;
-        double h = 0.0;
-        for (const Vec3& corner : v) {
-            const Vec3 a = corner - ball->center;
-            const auto [lo, hi] = si.linear_range(a, r.s0, r.s1, r.t0, r.t1);
-            const double offset = glm::dot(a, ball->center) + R * R;
-            h = std::max(h, sigma > 0.0 ? (hi - offset) / R : (offset - lo) / R);
-        }
-        const double area_r = si.area(r.s0, r.s1, r.t0, r.t1);
-        return area_r * std::min(1.0, h * area_v / (kPi * p * p * p));
     }
 
     // A region much larger than its distance to the receiver v may hide a near-singularity

@@ -294,8 +294,8 @@ Estimate area_times_f_sphere(const SceneGeometry& g, int i, int j, const SphereR
                                    // A region whose nodes see (almost) nothing of j, although
                                    // its directions come close enough, may hold a sliver that
                                    // does (x's horizon just reaching j): the 3 x 3 split looks.
-                                   const bool sliver = std::abs(fine) <= region_tol && may_see(r);
                                    if (!events.crosses(si, r)) return 0.0;
+                                   const bool sliver = std::abs(fine) <= region_tol && may_see(r);
                                    return sliver ? kCheckRegion : kSphereKinkFraction;
                                });
     e.error += inner_err * pi.area;
