@@ -115,8 +115,9 @@ void check_link_sizes(const Header& h, std::uint64_t size) {
 
 // Every link, checked as it is read: nodes in range, strictly sorted by (receiver, source),
 // finite values, factors in [0, 1.01] (a factor may exceed 1 by its estimate, checked on rows
-// later), estimates >= 0. Appended to `out` when given.
-void read_links(SectionStream& s, std::uint64_t nodes, std::uint64_t count, std::vector<Link>* out) {
+// later), estimates >= 0. Appended to `out`'s links when given, a link between two patches to
+// its pair links (its slopes must then be 0).
+void read_links(SectionStream& s, std::uint64_t nodes, std::uint64_t count, Hierarchy* out) {
     std::uint64_t prev_r = 0, prev_s = 0;
     for (std::uint64_t k = 0; k < count; ++k) {
         Link l;
@@ -135,23 +136,49 @@ void read_links(SectionStream& s, std::uint64_t nodes, std::uint64_t count, std:
             throw CacheFileError(at + " has a slope that is not a finite number");
         prev_r = r, prev_s = q;
         l.receiver = static_cast<int>(r), l.source = static_cast<int>(q);
-        if (out) out->push_back(l);
+        if (!out) continue;
+        if (out->nodes[r].leaf() && out->nodes[q].leaf()) {
+            if (l.gs != 0.0f || l.gt != 0.0f || l.cs != 0.0f || l.ct != 0.0f)
+                throw CacheFileError(at + " joins two patches but has slopes");
+            out->pair_links.push_back({l.receiver, l.source, l.f, l.error});
+        } else {
+            out->links.push_back(l);
+        }
     }
 }
 
-// Links [*next, ...) serialized into dst while they fit: two u32 and six f64 each.
-std::size_t link_bytes(const Hierarchy& h, std::size_t* next, std::uint8_t* dst, std::size_t cap) {
+// Both kinds of links in one sequence sorted by (receiver, source), as the file holds them.
+class LinkMerge {
+public:
+    explicit LinkMerge(const Hierarchy& h) : m_h(h) {}
+    bool done() const { return m_a == m_h.links.size() && m_b == m_h.pair_links.size(); }
+    Link next() {
+        const bool take_pair = m_a == m_h.links.size() ||
+                               (m_b < m_h.pair_links.size() && before(m_h.pair_links[m_b], m_h.links[m_a]));
+        if (!take_pair) return m_h.links[m_a++];
+        const PairLink& p = m_h.pair_links[m_b++];
+        return Link{p.receiver, p.source, p.f, p.error};
+    }
+
+private:
+    static bool before(const PairLink& p, const Link& l) {
+        return p.receiver != l.receiver ? p.receiver < l.receiver : p.source < l.source;
+    }
+    const Hierarchy& m_h;
+    std::size_t m_a = 0, m_b = 0;
+};
+
+// The links still in `merge` serialized into dst while they fit: two u32 and six f64 each.
+std::size_t link_bytes(LinkMerge& merge, std::uint8_t* dst, std::size_t cap) {
     ByteWriter m;
-    const std::size_t count = std::min(cap / kLinkBytes, h.links.size() - *next);
-    m.bytes().reserve(count * kLinkBytes);
-    for (std::size_t i = *next; i < *next + count; ++i) {
-        const Link& l = h.links[i];
+    m.bytes().reserve(cap - cap % kLinkBytes);
+    for (std::size_t k = 0; k < cap / kLinkBytes && !merge.done(); ++k) {
+        const Link l = merge.next();
         m.u32(static_cast<std::uint32_t>(l.receiver));
         m.u32(static_cast<std::uint32_t>(l.source));
         for (const double v : {l.f, l.error, double(l.gs), double(l.gt), double(l.cs), double(l.ct)})
             m.f64(v);
     }
-    *next += count;
     std::memcpy(dst, m.bytes().data(), m.bytes().size());
     return m.bytes().size();
 }
@@ -166,7 +193,7 @@ void write_link_header(ByteWriter& w, const CacheKey& key, const std::string& sc
     w.u64(static_cast<std::uint64_t>(g.patch_count()));
     w.u64(static_cast<std::uint64_t>(g.surface_count()));
     w.u64(h.nodes.size());
-    w.u64(h.links.size());
+    w.u64(static_cast<std::uint64_t>(h.link_count()));
     w.u32((options.visibility ? kFlagVisibility : 0) | (closed ? kFlagClosed : 0));
     w.u32(static_cast<std::uint32_t>(h.options.samples));
     w.f64(options.tolerance);
@@ -222,11 +249,15 @@ Hierarchy read_source(const Source& src, const CacheExpectation& expect, CacheFi
     read_hierarchy_counters(in, &hier.stats);
     if (in.remaining() != 0) throw CacheFileError("link section does not start where the table ends");
     SectionStream s(src, h.stored, h.raw, h.compression == kCompressZstd, "link");
-    // Exactly the links, held once (no doubling); a damaged count reserves no more than 64 times
-    // the stored bytes hold (zstd packs links about 2 to 3 times) before the reading stops it.
-    hier.links.reserve(static_cast<std::size_t>(
-        std::min<std::uint64_t>(h.info.links, h.stored * 64 / kLinkBytes + (1u << 20))));
-    read_links(s, h.info.nodes, h.info.links, &hier.links);
+    // The links held once (no doubling vector, no shrinking copy): both kinds reserve room for
+    // every link, and the part one kind leaves untouched is never resident. A damaged count
+    // reserves no more than 64 times what the stored bytes hold (zstd packs links about 2 to 3
+    // times) before the reading stops it.
+    const auto room = static_cast<std::size_t>(
+        std::min<std::uint64_t>(h.info.links, h.stored * 64 / kLinkBytes + (1u << 20)));
+    hier.links.reserve(room);
+    hier.pair_links.reserve(room);
+    read_links(s, h.info.nodes, h.info.links, &hier);
     s.finish();
     index_links(&hier);
     check_cache_links(hier, expect.options, h.info.closed);
@@ -279,7 +310,7 @@ void write_link_file(const fs::path& path, const CacheKey& key, const std::strin
                      const SceneGeometry& geometry, const FormFactorOptions& options, const Hierarchy& h) {
     // Streamed: a large scene's links are gigabytes, and a whole uncompressed copy of them (or
     // even a compressed one) beside the links themselves would set the run's peak memory.
-    const std::uint64_t raw_size = h.links.size() * kLinkBytes;
+    const std::uint64_t raw_size = static_cast<std::uint64_t>(h.link_count()) * kLinkBytes;
     const auto head = [&](std::uint64_t stored) {
         ByteWriter w;
         write_link_header(w, key, scene_name, closed, geometry, options, h);
@@ -292,9 +323,9 @@ void write_link_file(const fs::path& path, const CacheKey& key, const std::strin
             w.i64(v);
         return std::move(w.bytes());
     };
-    std::size_t next = 0;
+    LinkMerge merge(h);
     commit_streamed(path, raw_size, head,
-                    [&](std::uint8_t* dst, std::size_t cap) { return link_bytes(h, &next, dst, cap); });
+                    [&](std::uint8_t* dst, std::size_t cap) { return link_bytes(merge, dst, cap); });
 }
 
 CacheFileInfo read_link_info(const fs::path& path) {
@@ -325,7 +356,9 @@ CacheFileInfo verify_link_file(const fs::path& path) {
 
 void check_cache_links(const Hierarchy& h, const FormFactorOptions& options, bool closed) {
     std::vector<double> node_err(h.nodes.size(), 0.0);
-    for (const Link& l : h.links) node_err[static_cast<std::size_t>(l.receiver)] += l.error;
+    h.for_each_link([&](int receiver, int, double, double error) {
+        node_err[static_cast<std::size_t>(receiver)] += error;
+    });
     CacheFileInfo info;
     info.options = FormFactorOptions::adaptive(options.tolerance, options.visibility);
     info.closed = closed;

@@ -72,11 +72,18 @@ private:
 };
 
 bool same_links(const Hierarchy& a, const Hierarchy& b) {
-    if (a.links.size() != b.links.size() || a.first_link != b.first_link) return false;
+    if (a.links.size() != b.links.size() || a.first_link != b.first_link ||
+        a.pair_links.size() != b.pair_links.size() || a.first_pair_link != b.first_pair_link)
+        return false;
     for (std::size_t k = 0; k < a.links.size(); ++k) {
         const Link &x = a.links[k], &y = b.links[k];
         if (x.receiver != y.receiver || x.source != y.source || x.f != y.f || x.error != y.error ||
             x.gs != y.gs || x.gt != y.gt || x.cs != y.cs || x.ct != y.ct)
+            return false;
+    }
+    for (std::size_t k = 0; k < a.pair_links.size(); ++k) {
+        const PairLink &x = a.pair_links[k], &y = b.pair_links[k];
+        if (x.receiver != y.receiver || x.source != y.source || x.f != y.f || x.error != y.error)
             return false;
     }
     return true;
@@ -112,7 +119,7 @@ TEST_F(LinkFile, RoundTripThroughTheCacheIsExact) {
     for (std::size_t i = 0; i < B.size(); ++i) B[i] = 1.0 + std::sin(double(i));
     EXPECT_EQ(a.irradiance(B), b.irradiance(B));
     const CacheFileInfo info = verify_link_file(second.file);
-    EXPECT_EQ(info.links, a.links.size());
+    EXPECT_EQ(info.links, static_cast<std::uint64_t>(a.link_count()));
     EXPECT_EQ(info.nodes, a.nodes.size());
     EXPECT_EQ(info.patches, 86u);
 }
@@ -172,7 +179,8 @@ TEST_F(LinkFile, ImpossibleCountsAreRefusedBeforeAllocating) {
     std::vector<std::uint8_t> bytes = test::read_bytes(write(links(), "counts"));
     // magic, two versions, the key, the scene name, patches, surfaces, nodes: then the link count.
     const std::size_t at = 8 + 4 + 4 + 16 + 4 + scene().name.size() + 8 + 8 + 8;
-    ASSERT_EQ(bytes[at] + 256u * bytes[at + 1] + 65536u * bytes[at + 2], links().links.size());
+    ASSERT_EQ(bytes[at] + 256u * bytes[at + 1] + 65536u * bytes[at + 2],
+              static_cast<std::uint64_t>(links().link_count()));
     bytes[at + 3] = 0x40;  // + 2^30
     EXPECT_THROW(read_link_bytes(bytes, expect()), CacheFileError);
     EXPECT_THROW(verify_link_bytes(bytes), CacheFileError);
@@ -186,24 +194,37 @@ TEST_F(LinkFile, CraftedLinksAreRefused) {
         change(h);
         return write(h, name);
     };
-    fs::path p = crafted("order", [](Hierarchy& h) { std::swap(h.links[3], h.links[4]); });
+    // The seed scene's links all join two patches.
+    ASSERT_TRUE(links().links.empty());
+    fs::path p = crafted("order", [](Hierarchy& h) { std::swap(h.pair_links[3], h.pair_links[4]); });
     EXPECT_NE(load_error(p).find("out of order"), std::string::npos) << load_error(p);
     EXPECT_NE(verify_error(p).find("out of order"), std::string::npos);
-    p = crafted("range", [](Hierarchy& h) { h.links.back().source = static_cast<int>(h.nodes.size()); });
+    p = crafted("range", [](Hierarchy& h) { h.pair_links.back().source = static_cast<int>(h.nodes.size()); });
     EXPECT_NE(load_error(p).find("out of range"), std::string::npos) << load_error(p);
     EXPECT_NE(verify_error(p).find("out of range"), std::string::npos);
-    p = crafted("nan", [](Hierarchy& h) { h.links[7].error = std::numeric_limits<double>::quiet_NaN(); });
+    p = crafted("nan",
+                [](Hierarchy& h) { h.pair_links[7].error = std::numeric_limits<double>::quiet_NaN(); });
     EXPECT_NE(load_error(p).find("estimate"), std::string::npos) << load_error(p);
     EXPECT_NE(verify_error(p).find("estimate"), std::string::npos);
-    p = crafted("slope", [](Hierarchy& h) { h.links[9].gs = std::numeric_limits<float>::infinity(); });
+    // A link with slopes between two patches (written in its place among the others).
+    const auto with_slope = [](float gs) {
+        return [gs](Hierarchy& h) {
+            const PairLink l = h.pair_links[9];
+            h.pair_links.erase(h.pair_links.begin() + 9);
+            h.links.push_back(Link{l.receiver, l.source, l.f, l.error, gs, 0.0f, 0.0f, 0.0f});
+        };
+    };
+    p = crafted("slope", with_slope(std::numeric_limits<float>::infinity()));
     EXPECT_NE(load_error(p).find("slope"), std::string::npos) << load_error(p);
+    p = crafted("pair-slope", with_slope(0.25f));
+    EXPECT_NE(load_error(p).find("joins two patches but has slopes"), std::string::npos) << load_error(p);
     // Well formed, but the rows no longer close: scaled, or half the links dropped.
     p = crafted("scaled", [](Hierarchy& h) {
-        for (Link& l : h.links) l.f *= 0.9;
+        for (PairLink& l : h.pair_links) l.f *= 0.9;
     });
     EXPECT_NE(load_error(p).find("far from 1"), std::string::npos) << load_error(p);
     EXPECT_EQ(verify_error(p), "");  // rows need the nodes, which need the scene
-    p = crafted("dropped", [](Hierarchy& h) { h.links.resize(h.links.size() / 2); });
+    p = crafted("dropped", [](Hierarchy& h) { h.pair_links.resize(h.pair_links.size() / 2); });
     EXPECT_NE(load_error(p).find("far from 1"), std::string::npos) << load_error(p);
 }
 

@@ -108,18 +108,8 @@ public:
     // once copied: the links are held about once, not three times (the threads' doubling
     // vectors, then a doubling copy), which was most of the peak memory of a large scene.
     void collect(Hierarchy* h) {
-        std::size_t total = 0;
-        for (const auto& local : m_links)
-            for (const auto& chunk : local) total += chunk.size();
-        h->links.reserve(h->links.size() + total);
-        for (auto& local : m_links)
-            for (auto& chunk : local) {
-                h->links.insert(h->links.end(), chunk.begin(), chunk.end());
-                std::vector<Link>().swap(chunk);
-            }
-        tbb::parallel_sort(h->links.begin(), h->links.end(), [](const Link& a, const Link& b) {
-            return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
-        });
+        gather(m_links, &h->links);
+        gather(m_pair_links, &h->pair_links);
         for (const FormFactorStats& s : m_leaf_stats) h->leaf_stats += s;
         h->stats.node_pairs = m_node_pairs;
         h->stats.kernel_samples = m_kernel_samples;
@@ -128,6 +118,36 @@ public:
     }
 
 private:
+    // Each thread's links of one kind in chunks of kChunkLinks, never one array that doubles: a
+    // chunk is large enough that malloc maps it apart (its untouched tail costs nothing
+    // resident), and freeing it returns its memory.
+    template <class L>
+    using Chunks = tbb::enumerable_thread_specific<std::vector<std::vector<L>>>;
+    static constexpr std::size_t kChunkLinks = std::size_t{1} << 20;  // 24 or 40 MB
+
+    // The threads' chunks into `out`, sorted by (receiver, source).
+    template <class L>
+    static void gather(Chunks<L>& chunks, std::vector<L>* out) {
+        std::size_t total = 0;
+        for (const auto& local : chunks)
+            for (const auto& chunk : local) total += chunk.size();
+        out->reserve(out->size() + total);
+        for (auto& local : chunks)
+            for (auto& chunk : local) {
+                out->insert(out->end(), chunk.begin(), chunk.end());
+                std::vector<L>().swap(chunk);
+            }
+        tbb::parallel_sort(out->begin(), out->end(), [](const L& a, const L& b) {
+            return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
+        });
+    }
+    template <class L>
+    static void append(Chunks<L>& chunks, const L& l) {
+        auto& local = chunks.local();
+        if (local.empty() || local.back().size() == kChunkLinks) local.emplace_back().reserve(kChunkLinks);
+        local.back().push_back(l);
+    }
+
     const HierarchyNode& node(int i) const { return m_h.nodes[static_cast<std::size_t>(i)]; }
 
     // The coupling from the (m - 1) x (m - 1) points of each node.
@@ -165,11 +185,13 @@ private:
         }
         return k;
     }
+    // A link r <- s; between two patches, a PairLink (no slopes).
     bool add(int r, int s, double f, double e, const Slopes& k = {}) {
         if (f == 0.0 && e == 0.0) return false;
-        auto& local = m_links.local();
-        if (local.empty() || local.back().size() == kChunkLinks) local.emplace_back().reserve(kChunkLinks);
-        local.back().push_back({r, s, f, e, k.gs, k.gt, k.cs, k.ct});
+        if (node(r).leaf() && node(s).leaf())
+            append(m_pair_links, PairLink{r, s, f, e});
+        else
+            append(m_links, Link{r, s, f, e, k.gs, k.gt, k.cs, k.ct});
         return true;
     }
 
@@ -415,11 +437,8 @@ private:
     const PairProgress& m_progress;
     std::vector<Sample> m_samples, m_coarse;
     std::vector<std::pair<int, BoundingSphere>> m_balls;  // whole spheres: solids that can hide a pair
-    // Each thread's links in chunks of kChunkLinks, never one array that doubles: a chunk is
-    // large enough that malloc maps it apart (its untouched tail costs nothing resident), and
-    // freeing it returns its memory.
-    static constexpr std::size_t kChunkLinks = std::size_t{1} << 20;  // 40 MB
-    tbb::enumerable_thread_specific<std::vector<std::vector<Link>>> m_links;
+    Chunks<Link> m_links;
+    Chunks<PairLink> m_pair_links;
     tbb::enumerable_thread_specific<FormFactorStats> m_leaf_stats;
     mutable std::atomic<long long> m_node_pairs{0}, m_kernel_samples{0}, m_dropped{0}, m_leaf_links{0};
 };

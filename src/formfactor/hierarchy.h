@@ -71,6 +71,15 @@ struct Link {
 };
 static_assert(sizeof(Link) == 40, "a link's size is in docs/scale.md");
 
+// A link between two patches: both ends are one patch, so it has no slopes (24 bytes, not a
+// Link's 40: most of a large scene's links are these).
+struct PairLink {
+    int receiver = 0, source = 0;
+    double f = 0.0;
+    double error = 0.0;
+};
+static_assert(sizeof(PairLink) == 24, "a link's size is in docs/scale.md");
+
 struct HierarchyStats {
     long long links = 0;
     long long leaf_links = 0;  // links between two patches, by the dense path's pair integral
@@ -81,15 +90,24 @@ struct HierarchyStats {
 };
 
 struct Hierarchy {
-    std::vector<HierarchyNode> nodes;      // surface roots first, in surface order
-    std::vector<int> leaf_of_patch;        // node index of each patch
-    std::vector<Link> links;               // sorted by (receiver, source)
-    std::vector<std::int64_t> first_link;  // links of node r: [first_link[r], first_link[r + 1])
+    std::vector<HierarchyNode> nodes;  // surface roots first, in surface order
+    std::vector<int> leaf_of_patch;    // node index of each patch
+    std::vector<Link> links;  // with a group of patches at one end or both, sorted by (receiver, source)
+    std::vector<PairLink> pair_links;           // between two patches, sorted by (receiver, source)
+    std::vector<std::int64_t> first_link;       // links of node r: [first_link[r], first_link[r + 1])
+    std::vector<std::int64_t> first_pair_link;  // pair links of node r, likewise
     HierarchyOptions options;
     HierarchyStats stats;
     FormFactorStats leaf_stats;  // the leaf pairs' integration counts
 
     int roots = 0;  // nodes[0, roots) are the surfaces' roots, nodes[k] surface k's
+    // Every link, both kinds, as f(receiver, source, f, error).
+    template <class F>
+    void for_each_link(F&& f) const {
+        for (const Link& l : links) f(l.receiver, l.source, l.f, l.error);
+        for (const PairLink& l : pair_links) f(l.receiver, l.source, l.f, l.error);
+    }
+    long long link_count() const { return static_cast<long long>(links.size() + pair_links.size()); }
     // Per-node values summed down every path from a root (children come after parents), read
     // at the patches: what a patch receives through its own links and those of every node
     // above it.
@@ -170,7 +188,7 @@ std::size_t hierarchy_bytes(const Hierarchy& h);
 // links come from the cache.
 Hierarchy hierarchy_nodes(const SceneGeometry& geometry, const HierarchyOptions& options);
 
-// Sets first_link (and stats.links) from links sorted by (receiver, source).
+// Sets first_link and first_pair_link (and stats.links) from links sorted by (receiver, source).
 void index_links(Hierarchy* h);
 
 // Builds the hierarchy and its links. `leaf` sets the leaf pairs' integration (its method and

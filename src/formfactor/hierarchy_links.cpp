@@ -39,6 +39,10 @@ std::vector<T> irradiance_of(const Hierarchy& h, const std::vector<T>& B) {
             ss += double(k.gs) * b[q];
             st += double(k.gt) * b[q];
         }
+        for (auto l = h.first_pair_link[r]; l < h.first_pair_link[r + 1]; ++l) {
+            const PairLink& k = h.pair_links[static_cast<std::size_t>(l)];
+            sum += k.f * b[static_cast<std::size_t>(k.source)];
+        }
         hh[r] = sum, hs[r] = ss, ht[r] = st;
     });
     return h.push_linear(std::move(hh), std::move(hs), std::move(ht));
@@ -77,21 +81,25 @@ FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g) {
             for (int is = a.is0; is < a.is1; ++is) out.push_back(g.patch_index(a.surface, is, it));
         return out;
     };
-    for (const Link& l : h.links) {
-        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
+    h.for_each_link([&](int receiver, int source, double, double error) {
+        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(source)];
         const std::vector<int> js = patches(q);
-        for (const int i : patches(h.nodes[static_cast<std::size_t>(l.receiver)]))
+        for (const int i : patches(h.nodes[static_cast<std::size_t>(receiver)]))
             for (const int j : js)
                 ff.error[static_cast<std::size_t>(i) * un + static_cast<std::size_t>(j)] +=
-                    l.error * ff.area[static_cast<std::size_t>(j)] / q.area;
-    }
+                    error * ff.area[static_cast<std::size_t>(j)] / q.area;
+    });
     ff.stats = h.leaf_stats;
     return ff;
 }
 
 std::size_t hierarchy_bytes(const Hierarchy& h) {
-    return h.nodes.capacity() * sizeof(HierarchyNode) + h.links.capacity() * sizeof(Link) +
-           h.first_link.capacity() * sizeof(std::int64_t) + h.leaf_of_patch.capacity() * sizeof(int);
+    // The links as held: a vector read from the cache reserves room for every link in both
+    // kinds, and the room a kind leaves untouched is never resident.
+    return h.nodes.capacity() * sizeof(HierarchyNode) + h.links.size() * sizeof(Link) +
+           h.pair_links.size() * sizeof(PairLink) +
+           (h.first_link.capacity() + h.first_pair_link.capacity()) * sizeof(std::int64_t) +
+           h.leaf_of_patch.capacity() * sizeof(int);
 }
 
 FormFactorChecks check_hierarchy(const Hierarchy& h, double leaf_tolerance) {
@@ -103,47 +111,63 @@ FormFactorChecks check_hierarchy(const Hierarchy& h, double leaf_tolerance) {
             c.closure_worst_patch = static_cast<int>(i);
         }
     std::vector<double> node_err(h.nodes.size(), 0.0);
-    for (const Link& l : h.links) {
-        const HierarchyNode& p = h.nodes[static_cast<std::size_t>(l.receiver)];
-        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
-        node_err[static_cast<std::size_t>(l.receiver)] += l.error;
-        c.min_entry = std::min(c.min_entry, l.f);
-        c.max_error_estimate = std::max(c.max_error_estimate, l.error);
-        const double target =
-            p.leaf() && q.leaf() ? leaf_tolerance * std::min(p.area, q.area) / p.area : h.options.tolerance;
-        if (l.error > target) {
-            ++c.entries_over_tolerance;
-            if (l.error / target > c.worst_miss_ratio) {
-                c.worst_miss_ratio = l.error / target;
-                c.worst_miss_estimate = l.error;
-                c.worst_miss_i = p.leaf() ? p.patch : -1;
-                c.worst_miss_j = q.leaf() ? q.patch : -1;
+    // Each link against its reverse, which is of the same kind (a pair proven or sampled to
+    // exchange nothing has neither).
+    const auto check = [&](const auto& links, const std::vector<std::int64_t>& first) {
+        for (const auto& l : links) {
+            const HierarchyNode& p = h.nodes[static_cast<std::size_t>(l.receiver)];
+            const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
+            node_err[static_cast<std::size_t>(l.receiver)] += l.error;
+            c.min_entry = std::min(c.min_entry, l.f);
+            c.max_error_estimate = std::max(c.max_error_estimate, l.error);
+            const double target = p.leaf() && q.leaf() ? leaf_tolerance * std::min(p.area, q.area) / p.area
+                                                       : h.options.tolerance;
+            if (l.error > target) {
+                ++c.entries_over_tolerance;
+                if (l.error / target > c.worst_miss_ratio) {
+                    c.worst_miss_ratio = l.error / target;
+                    c.worst_miss_estimate = l.error;
+                    c.worst_miss_i = p.leaf() ? p.patch : -1;
+                    c.worst_miss_j = q.leaf() ? q.patch : -1;
+                }
+            }
+            const auto b = links.begin() + first[static_cast<std::size_t>(l.source)];
+            const auto e = links.begin() + first[static_cast<std::size_t>(l.source) + 1];
+            const auto r =
+                std::lower_bound(b, e, l.receiver, [](const auto& k, int v) { return k.source < v; });
+            const bool reverse = r != e && r->source == l.receiver;
+            const double g = p.area * l.f, g_rev = reverse ? q.area * r->f : 0.0;
+            if (const double top = std::max(g, g_rev); top > 0.0) {
+                c.reciprocity_max_error = std::max(c.reciprocity_max_error, std::abs(g - g_rev) / top);
+                c.reciprocity_abs_error = std::max(c.reciprocity_abs_error, std::abs(g - g_rev) / p.area);
+                const double est = p.area * l.error + (reverse ? q.area * r->error : 0.0);
+                if (est > 0.0)
+                    c.reciprocity_vs_estimate =
+                        std::max(c.reciprocity_vs_estimate, std::abs(g - g_rev) / est);
             }
         }
-        // The reverse link, if any (a pair proven or sampled to exchange nothing has neither).
-        const auto b = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source)];
-        const auto e = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source) + 1];
-        const auto r = std::lower_bound(b, e, l.receiver, [](const Link& k, int v) { return k.source < v; });
-        const double g = p.area * l.f, g_rev = r != e && r->source == l.receiver ? q.area * r->f : 0.0;
-        if (const double top = std::max(g, g_rev); top > 0.0) {
-            c.reciprocity_max_error = std::max(c.reciprocity_max_error, std::abs(g - g_rev) / top);
-            c.reciprocity_abs_error = std::max(c.reciprocity_abs_error, std::abs(g - g_rev) / p.area);
-            const double est =
-                p.area * l.error + (r != e && r->source == l.receiver ? q.area * r->error : 0.0);
-            if (est > 0.0)
-                c.reciprocity_vs_estimate = std::max(c.reciprocity_vs_estimate, std::abs(g - g_rev) / est);
-        }
-    }
+    };
+    check(h.links, h.first_link);
+    check(h.pair_links, h.first_pair_link);
     const std::vector<double> row_err = h.to_patches(std::move(node_err));
     for (const double e : row_err) c.max_row_error_estimate = std::max(c.max_row_error_estimate, e);
     return c;
 }
 
+namespace {
+template <class L>
+std::vector<std::int64_t> index_of(const std::vector<L>& links, std::size_t nodes) {
+    std::vector<std::int64_t> first(nodes + 1, 0);
+    for (const L& l : links) ++first[static_cast<std::size_t>(l.receiver) + 1];
+    for (std::size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
+    return first;
+}
+}  // namespace
+
 void index_links(Hierarchy* h) {
-    h->first_link.assign(h->nodes.size() + 1, 0);
-    for (const Link& l : h->links) ++h->first_link[static_cast<std::size_t>(l.receiver) + 1];
-    for (std::size_t i = 1; i < h->first_link.size(); ++i) h->first_link[i] += h->first_link[i - 1];
-    h->stats.links = static_cast<long long>(h->links.size());
+    h->first_link = index_of(h->links, h->nodes.size());
+    h->first_pair_link = index_of(h->pair_links, h->nodes.size());
+    h->stats.links = h->link_count();
 }
 
 }  // namespace radiosa

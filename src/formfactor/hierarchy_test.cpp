@@ -88,12 +88,13 @@ TEST(Hierarchy, LinksAreReciprocalAndRowsCloseInAClosedScene) {
     const long long n = g.patch_count();
     EXPECT_EQ(covered.load(), n * (n + 1) / 2);
     EXPECT_GT(h.stats.dropped, 0);
-    // Every link between two nodes has its reverse with A_p f_pq = A_q f_qp.
+    // Every link between two nodes has its reverse with A_p f_pq = A_q f_qp; the links between
+    // two patches are held apart, without slopes.
     long long node_links = 0;
     for (const Link& l : h.links) {
         const HierarchyNode& p = h.nodes[static_cast<std::size_t>(l.receiver)];
         const HierarchyNode& q = h.nodes[static_cast<std::size_t>(l.source)];
-        if (p.leaf() && q.leaf()) continue;
+        EXPECT_FALSE(p.leaf() && q.leaf());
         ++node_links;
         const auto b = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source)];
         const auto e = h.links.begin() + h.first_link[static_cast<std::size_t>(l.source) + 1];
@@ -102,10 +103,16 @@ TEST(Hierarchy, LinksAreReciprocalAndRowsCloseInAClosedScene) {
         EXPECT_NEAR(p.area * l.f, q.area * r->f, 1e-14 * p.area * l.f);
     }
     EXPECT_GT(node_links, 0);  // some coupling above the patches: not the dense matrix in disguise
+    for (const PairLink& l : h.pair_links) {
+        EXPECT_TRUE(h.nodes[static_cast<std::size_t>(l.receiver)].leaf());
+        EXPECT_TRUE(h.nodes[static_cast<std::size_t>(l.source)].leaf());
+    }
+    EXPECT_EQ(static_cast<long long>(h.pair_links.size()), h.stats.leaf_links);
+    EXPECT_EQ(h.link_count(), h.stats.links);
     // The cube is closed: each patch's links (its own and its ancestors') sum to 1 within the
     // sum of their estimates.
     std::vector<double> node_err(h.nodes.size(), 0.0);
-    for (const Link& l : h.links) node_err[static_cast<std::size_t>(l.receiver)] += l.error;
+    h.for_each_link([&](int r, int, double, double e) { node_err[static_cast<std::size_t>(r)] += e; });
     const std::vector<double> err = h.to_patches(std::move(node_err));
     const std::vector<double> rows = h.row_sums();
     for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_NEAR(rows[i], 1.0, err[i]) << i;
@@ -208,10 +215,11 @@ TEST(Hierarchy, ABallBetweenTwoSquaresHidesThemWhollyOrInPart) {
         o.tolerance = 1e-4;
         const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
         long long between = 0;
-        for (const Link& l : h.links)
-            between += h.nodes[static_cast<std::size_t>(l.receiver)].surface +
-                           h.nodes[static_cast<std::size_t>(l.source)].surface ==
-                       1;
+        h.for_each_link([&](int r, int s, double, double) {
+            between +=
+                h.nodes[static_cast<std::size_t>(r)].surface + h.nodes[static_cast<std::size_t>(s)].surface ==
+                1;
+        });
         const FormFactors links = expand_links(h, g);
         const FormFactors dense = compute_form_factors(g, FormFactorOptions::adaptive(1e-6));
         double worst = 0.0, most = 0.0;
@@ -244,10 +252,9 @@ TEST(Hierarchy, PairsOfPatchesAreWithinTheirEstimates) {
     const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
     const FormFactors exact = compute_form_factors(g, FormFactorOptions::adaptive(1e-9));
     int checked = 0, shadowed = 0;
-    for (const Link& l : h.links) {
+    for (const PairLink& l : h.pair_links) {
         const HierarchyNode& r = h.nodes[static_cast<std::size_t>(l.receiver)];
         const HierarchyNode& s = h.nodes[static_cast<std::size_t>(l.source)];
-        if (!r.leaf() || !s.leaf()) continue;
         const double err = std::abs(l.f - exact.F(r.patch, s.patch));
         const double ref = exact.error[static_cast<std::size_t>(r.patch) * exact.F.n + s.patch];
         EXPECT_LE(err, l.error + ref + 1e-15) << r.patch << " <- " << s.patch;

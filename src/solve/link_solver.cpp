@@ -39,8 +39,9 @@ Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vecto
                         const LinkSolveOptions& options) {
     const std::vector<Rgb> top = pull_max(h, B);
     std::vector<Rgb> node_e(h.nodes.size(), Rgb(0.0));
-    for (const Link& l : h.links)
-        node_e[static_cast<std::size_t>(l.receiver)] += l.error * top[static_cast<std::size_t>(l.source)];
+    h.for_each_link([&](int receiver, int source, double, double error) {
+        node_e[static_cast<std::size_t>(receiver)] += error * top[static_cast<std::size_t>(source)];
+    });
     std::vector<Rgb> e = h.to_patches(std::move(node_e));
     for (std::size_t i = 0; i < e.size(); ++i) e[i] *= m.rho[i];
     const std::vector<Rgb> d = solve_links(h, m.rho, e, options).B;
