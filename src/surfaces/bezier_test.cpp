@@ -100,7 +100,9 @@ TEST(Bezier, TeapotFileHas32PatchesAndIsBounded) {
         const BezierSurface b(cp);
         if (auto h = b.intersect(Ray{Vec3(0.001, 0.001, 5), Vec3(0, 0, -1)}, 0, 10, HitSide::Any)) {
             best = std::min(best, h->dist);
-            if (h->dist < 2.0) EXPECT_TRUE(h->front);
+            if (h->dist < 2.0) {
+                EXPECT_TRUE(h->front);
+            }
         }
     }
     EXPECT_NEAR(best, 5 - 3.15, 1e-5);
