@@ -151,19 +151,16 @@ void read_links(SectionStream& s, std::uint64_t nodes, std::uint64_t count, Hier
 class LinkMerge {
 public:
     explicit LinkMerge(const Hierarchy& h) : m_h(h) {}
-    bool done() const { return m_a == m_h.links.size() && m_b == m_h.pair_links.size(); }
+    std::size_t remaining() const { return m_h.links.size() - m_a + m_h.pair_links.size() - m_b; }
     Link next() {
-        const bool take_pair = m_a == m_h.links.size() ||
-                               (m_b < m_h.pair_links.size() && before(m_h.pair_links[m_b], m_h.links[m_a]));
+        const bool take_pair = m_a == m_h.links.size() || (m_b < m_h.pair_links.size() &&
+                                                           link_before(m_h.pair_links[m_b], m_h.links[m_a]));
         if (!take_pair) return m_h.links[m_a++];
         const PairLink& p = m_h.pair_links[m_b++];
         return Link{p.receiver, p.source, p.f, p.error};
     }
 
 private:
-    static bool before(const PairLink& p, const Link& l) {
-        return p.receiver != l.receiver ? p.receiver < l.receiver : p.source < l.source;
-    }
     const Hierarchy& m_h;
     std::size_t m_a = 0, m_b = 0;
 };
@@ -171,8 +168,9 @@ private:
 // The links still in `merge` serialized into dst while they fit: two u32 and six f64 each.
 std::size_t link_bytes(LinkMerge& merge, std::uint8_t* dst, std::size_t cap) {
     ByteWriter m;
-    m.bytes().reserve(cap - cap % kLinkBytes);
-    for (std::size_t k = 0; k < cap / kLinkBytes && !merge.done(); ++k) {
+    const std::size_t count = std::min(cap / kLinkBytes, merge.remaining());
+    m.bytes().reserve(count * kLinkBytes);
+    for (std::size_t k = 0; k < count; ++k) {
         const Link l = merge.next();
         m.u32(static_cast<std::uint32_t>(l.receiver));
         m.u32(static_cast<std::uint32_t>(l.source));
@@ -356,9 +354,8 @@ CacheFileInfo verify_link_file(const fs::path& path) {
 
 void check_cache_links(const Hierarchy& h, const FormFactorOptions& options, bool closed) {
     std::vector<double> node_err(h.nodes.size(), 0.0);
-    h.for_each_link([&](int receiver, int, double, double error) {
-        node_err[static_cast<std::size_t>(receiver)] += error;
-    });
+    h.for_each_link(
+        [&](int receiver, int, double error) { node_err[static_cast<std::size_t>(receiver)] += error; });
     CacheFileInfo info;
     info.options = FormFactorOptions::adaptive(options.tolerance, options.visibility);
     info.closed = closed;

@@ -137,9 +137,7 @@ private:
                 out->insert(out->end(), chunk.begin(), chunk.end());
                 std::vector<L>().swap(chunk);
             }
-        tbb::parallel_sort(out->begin(), out->end(), [](const L& a, const L& b) {
-            return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
-        });
+        tbb::parallel_sort(out->begin(), out->end(), link_before<L, L>);
     }
     template <class L>
     static void append(Chunks<L>& chunks, const L& l) {

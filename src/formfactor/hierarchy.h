@@ -80,6 +80,12 @@ struct PairLink {
 };
 static_assert(sizeof(PairLink) == 24, "a link's size is in docs/scale.md");
 
+// The order links are held and stored in: by receiver, then source (either kind).
+template <class A, class B>
+bool link_before(const A& a, const B& b) {
+    return a.receiver != b.receiver ? a.receiver < b.receiver : a.source < b.source;
+}
+
 struct HierarchyStats {
     long long links = 0;
     long long leaf_links = 0;  // links between two patches, by the dense path's pair integral
@@ -101,11 +107,11 @@ struct Hierarchy {
     FormFactorStats leaf_stats;  // the leaf pairs' integration counts
 
     int roots = 0;  // nodes[0, roots) are the surfaces' roots, nodes[k] surface k's
-    // Every link, both kinds, as f(receiver, source, f, error).
+    // Every link, both kinds, as f(receiver, source, error).
     template <class F>
     void for_each_link(F&& f) const {
-        for (const Link& l : links) f(l.receiver, l.source, l.f, l.error);
-        for (const PairLink& l : pair_links) f(l.receiver, l.source, l.f, l.error);
+        for (const Link& l : links) f(l.receiver, l.source, l.error);
+        for (const PairLink& l : pair_links) f(l.receiver, l.source, l.error);
     }
     long long link_count() const { return static_cast<long long>(links.size() + pair_links.size()); }
     // Per-node values summed down every path from a root (children come after parents), read

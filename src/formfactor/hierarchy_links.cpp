@@ -81,7 +81,7 @@ FormFactors expand_links(const Hierarchy& h, const SceneGeometry& g) {
             for (int is = a.is0; is < a.is1; ++is) out.push_back(g.patch_index(a.surface, is, it));
         return out;
     };
-    h.for_each_link([&](int receiver, int source, double, double error) {
+    h.for_each_link([&](int receiver, int source, double error) {
         const HierarchyNode& q = h.nodes[static_cast<std::size_t>(source)];
         const std::vector<int> js = patches(q);
         for (const int i : patches(h.nodes[static_cast<std::size_t>(receiver)]))

@@ -112,7 +112,7 @@ TEST(Hierarchy, LinksAreReciprocalAndRowsCloseInAClosedScene) {
     // The cube is closed: each patch's links (its own and its ancestors') sum to 1 within the
     // sum of their estimates.
     std::vector<double> node_err(h.nodes.size(), 0.0);
-    h.for_each_link([&](int r, int, double, double e) { node_err[static_cast<std::size_t>(r)] += e; });
+    h.for_each_link([&](int r, int, double e) { node_err[static_cast<std::size_t>(r)] += e; });
     const std::vector<double> err = h.to_patches(std::move(node_err));
     const std::vector<double> rows = h.row_sums();
     for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_NEAR(rows[i], 1.0, err[i]) << i;
@@ -215,7 +215,7 @@ TEST(Hierarchy, ABallBetweenTwoSquaresHidesThemWhollyOrInPart) {
         o.tolerance = 1e-4;
         const Hierarchy h = build_hierarchy(g, o, FormFactorOptions::adaptive(1e-6));
         long long between = 0;
-        h.for_each_link([&](int r, int s, double, double) {
+        h.for_each_link([&](int r, int s, double) {
             between +=
                 h.nodes[static_cast<std::size_t>(r)].surface + h.nodes[static_cast<std::size_t>(s)].surface ==
                 1;

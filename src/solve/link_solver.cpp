@@ -39,7 +39,7 @@ Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vecto
                         const LinkSolveOptions& options) {
     const std::vector<Rgb> top = pull_max(h, B);
     std::vector<Rgb> node_e(h.nodes.size(), Rgb(0.0));
-    h.for_each_link([&](int receiver, int source, double, double error) {
+    h.for_each_link([&](int receiver, int source, double error) {
         node_e[static_cast<std::size_t>(receiver)] += error * top[static_cast<std::size_t>(source)];
     });
     std::vector<Rgb> e = h.to_patches(std::move(node_e));
