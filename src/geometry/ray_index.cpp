@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -25,15 +27,26 @@ RTCDevice shared_device() {
     return device;
 }
 
+// std::nextafter(x, +inf) for finite x, inline (the library call was 2 % of a frame): the
+// neighbour one unit in the last place up, through the bits' order.
+template <class F, class U>
+F next_up(F x) {
+    if (x == F(0)) return std::numeric_limits<F>::denorm_min();
+    const U bits = std::bit_cast<U>(x);
+    return std::bit_cast<F>(x > F(0) ? bits + 1 : bits - 1);
+}
+double next_up(double x) { return next_up<double, std::uint64_t>(x); }
+float next_up(float x) { return next_up<float, std::uint32_t>(x); }
+
 // The float just above x (Embree prunes with float distances; they must never be too short).
 float float_up(double x) {
     float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    if (static_cast<double>(f) < x) f = next_up(f);
     return f;
 }
 float float_down(double x) {
     float f = static_cast<float>(x);
-    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    if (static_cast<double>(f) > x) f = -next_up(-f);
     return f;
 }
 
@@ -94,7 +107,7 @@ struct RayIndex::Impl {
             l.best = *d;
             l.surface = k;
             l.limit = l.next;
-            l.next = std::nextafter(*d, std::numeric_limits<double>::infinity());
+            l.next = next_up(*d);  // *d is finite: it is below l.next
             // Generous in float: traversal rounding must not prune a box holding a nearer hit.
             RTCRayN_tfar(rays, n, i) = float_up((*d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
             RTCHitN_geomID(hits, n, i) = args->geomID;
@@ -102,22 +115,26 @@ struct RayIndex::Impl {
         }
     }
 
-    // The nearest surface's hit, its parameters found once, by the very call front_distance
-    // answered (Surface promises the same distance bit for bit); should a type ever break
-    // that, the loop decides.
-    std::optional<Found> finish(const Lane& l) const {
-        if (l.surface < 0) return std::nullopt;
-        const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
-                                                                                HitSide::FrontOnly);
-        if (h && h->dist == l.best) return Found{l.surface, *h};
-        std::optional<Found> found;
+    // The nearest surface's hit into *out (surface -1: none), its parameters found by one more
+    // call of that surface, which Surface promises gives the distance front_distance gave, bit
+    // for bit; should a type ever break that, the loop decides.
+    void finish(const Lane& l, Found* out) const {
+        out->surface = -1;
+        if (l.surface < 0) return;
+        if (const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
+                                                                                    HitSide::FrontOnly);
+            h && h->dist == l.best) {
+            out->surface = l.surface;
+            out->hit = *h;
+            return;
+        }
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < surfaces.size(); ++k)
             if (const auto g = surfaces[k]->intersect(*l.ray, 0.0, best, HitSide::FrontOnly)) {
                 best = g->dist;
-                found = Found{static_cast<int>(k), *g};
+                out->surface = static_cast<int>(k);
+                out->hit = *g;
             }
-        return found;
     }
 
     // Sets up lane `id` of q for `ray`, clipped to the ball holding every box (Embree then
@@ -216,10 +233,13 @@ std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(m->scene, &q.rtc, &rh);
-    return m->finish(q.lanes[0]);
+    Found f;
+    m->finish(q.lanes[0], &f);
+    if (f.surface < 0) return std::nullopt;
+    return f;
 }
 
-void RayIndex::nearest_front(const Ray* rays, std::size_t count, std::optional<Found>* found) const {
+void RayIndex::nearest_front(const Ray* rays, std::size_t count, Found* found) const {
     constexpr int kP = Impl::kPacket;
     static_assert(kP == 8, "the packet is traced with rtcIntersect8");
     Impl::Query q;
@@ -251,7 +271,12 @@ void RayIndex::nearest_front(const Ray* rays, std::size_t count, std::optional<F
         rtcInitIntersectContext(&q.rtc);
         q.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         rtcIntersect8(valid, m->scene, &q.rtc, &rh);
-        for (int i = 0; i < n; ++i) found[first + i] = valid[i] ? m->finish(q.lanes[i]) : std::nullopt;
+        for (int i = 0; i < n; ++i) {
+            if (valid[i])
+                m->finish(q.lanes[i], &found[first + i]);
+            else
+                found[first + i].surface = -1;
+        }
     }
 }
 

@@ -34,9 +34,10 @@ public:
     //   for k: surface k .intersect(ray, 0, best, HitSide::FrontOnly)
     // would find it. Safe to call from many threads at once.
     std::optional<Found> nearest_front(const Ray& ray) const;
-    // found[i] = nearest_front(rays[i]) for i < count, traced in packets of eight through
-    // Embree's packet traversal: faster for coherent rays, such as an image's neighbours.
-    void nearest_front(const Ray* rays, std::size_t count, std::optional<Found>* found) const;
+    // found[i] = nearest_front(rays[i]) for i < count, a miss as found[i].surface = -1 (its hit
+    // then unset), traced in packets of eight through Embree's packet traversal: faster for
+    // coherent rays, such as an image's neighbours.
+    void nearest_front(const Ray* rays, std::size_t count, Found* found) const;
 
 private:
     struct Impl;

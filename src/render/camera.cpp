@@ -19,11 +19,4 @@ PinholeCamera::PinholeCamera(const CameraDesc& d, int width, int height)
     m_tan_half = std::tan(0.5 * deg_to_rad(d.fov_deg));
 }
 
-Ray PinholeCamera::ray(double px, double py) const {
-    const double aspect = double(m_width) / m_height;
-    const double x = (2.0 * px / m_width - 1.0) * m_tan_half * aspect;
-    const double y = (1.0 - 2.0 * py / m_height) * m_tan_half;
-    return Ray{m_eye, glm::normalize(m_forward + x * m_right + y * m_up)};
-}
-
 }  // namespace radiosa

@@ -8,8 +8,14 @@ namespace radiosa {
 class PinholeCamera {
 public:
     PinholeCamera(const CameraDesc& desc, int width, int height);
-    // (px, py) in pixels, (0, 0) the top-left corner of the image.
-    Ray ray(double px, double py) const;
+    // (px, py) in pixels, (0, 0) the top-left corner of the image. Inline: an image makes one
+    // per sample.
+    Ray ray(double px, double py) const {
+        const double aspect = double(m_width) / m_height;
+        const double x = (2.0 * px / m_width - 1.0) * m_tan_half * aspect;
+        const double y = (1.0 - 2.0 * py / m_height) * m_tan_half;
+        return Ray{m_eye, glm::normalize(m_forward + x * m_right + y * m_up)};
+    }
     const Vec3& eye() const { return m_eye; }
     const Vec3& forward() const { return m_forward; }
     // Focal length in pixels (distance to an image plane where pixels are unit squares).

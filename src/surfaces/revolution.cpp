@@ -12,7 +12,8 @@ AzimuthFrame azimuth_frame(const Vec3& a) {
 }
 
 std::optional<double> AngleRange::param(double phi) const {
-    double d = std::fmod(phi - phi0, 2.0 * kPi);
+    double d = phi - phi0;
+    if (!(std::abs(d) < 2.0 * kPi)) d = std::fmod(d, 2.0 * kPi);  // fmod leaves |d| < 2 pi as it is
     if (d < 0.0) d += 2.0 * kPi;
     constexpr double kSlack = 1e-12;  // a hit on the range's edge despite rounding
     if (d > 2.0 * kPi - kSlack) d = 0.0;
