@@ -57,34 +57,137 @@ Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vecto
     return out;
 }
 
+namespace {
+
+// Chebyshev acceleration of the sweeps (Golub & Varga 1961; Varga, Matrix Iterative Analysis,
+// ch. 5): x_{k+1} = x_{k-1} + w_{k+1} (J(x_k) - x_{k-1}), J the Jacobi sweep, with w_1 = 1,
+// w_2 = 1 / (1 - l^2 / 2) and w_{k+1} = 1 / (1 - l^2 w_k / 4) for eigenvalues of rho F in
+// [-l, l]. With reciprocal form factors (A_i F_ij = A_j F_ji) rho F is self-adjoint in the inner
+// product weighted by A / rho, so its eigenvalues are real; the largest, l*, is Jacobi's rate.
+// With l = l* the error shrinks per sweep by l / (1 + sqrt(1 - l^2)) instead of l (0.36 instead
+// of 0.64 at l = 0.64, 0.72 instead of 0.95 at l = 0.95). An l above l* costs little (0.39 for
+// l = 0.68 over 0.64), one below it much, so l is the Rayleigh quotient of Jacobi's changes
+// (d_k = K d_{k-1}: <d_{k-1}, W d_k> / <d_{k-1}, W d_{k-1}>, which tends to l* from below, its
+// error squared at every sweep) plus a tenth of its distance to 1. Should the accelerated
+// changes ever grow a thousandfold (links far from reciprocal: complex eigenvalues), the plain
+// sweeps take over again.
+class Chebyshev {
+public:
+    Chebyshev(const Hierarchy& h, const std::vector<Rgb>& rho) : m_weight(rho.size(), Rgb(0.0)) {
+        for (std::size_t i = 0; i < rho.size(); ++i) {
+            const double area = h.nodes[static_cast<std::size_t>(h.leaf_of_patch[i])].area;
+            for (int c = 0; c < 3; ++c)
+                if (rho[i][c] > 0.0) m_weight[i][c] = area / rho[i][c];
+        }
+    }
+    bool on() const { return m_on; }
+    const Rgb& weight() const { return m_w; }
+
+    // After sweep `sweep`, whose change J(x) - x per patch is `d` (per channel at most `largest`):
+    // reads the rate while plain, then switches on.
+    void observe(int sweep, const std::vector<Rgb>& d, const Rgb& largest) {
+        if (m_on) return watch(largest);
+        if (m_off) return;
+        if (sweep >= 2) {
+            Rgb num(0.0), den(0.0);
+            for (std::size_t i = 0; i < d.size(); ++i) {
+                num += m_weight[i] * m_d[i] * d[i];
+                den += m_weight[i] * m_d[i] * m_d[i];
+            }
+            const Rgb was = m_quotient;
+            for (int c = 0; c < 3; ++c) m_quotient[c] = den[c] > 0.0 ? std::clamp(num[c] / den[c], 0.0, 1.0) : 0.0;
+            bool settled = true;
+            for (int c = 0; c < 3; ++c) settled = settled && std::abs(m_quotient[c] - was[c]) <= 0.01 * m_quotient[c];
+            if (sweep >= kLast || (sweep >= kFirst && settled)) {
+                for (int c = 0; c < 3; ++c) m_l[c] = std::min(m_quotient[c] + 0.1 * (1.0 - m_quotient[c]), kMax);
+                m_on = true;
+                m_least = largest;
+                // This sweep's J(x_k) with x_k = J(x_{k-1}) makes the second Chebyshev step.
+                for (int c = 0; c < 3; ++c) m_w[c] = 1.0 / (1.0 - 0.5 * m_l[c] * m_l[c]);
+                return;
+            }
+        }
+        m_d = d;
+    }
+    // The weight for the sweep after this one's.
+    void advance() {
+        for (int c = 0; c < 3; ++c) m_w[c] = 1.0 / (1.0 - 0.25 * m_l[c] * m_l[c] * m_w[c]);
+    }
+
+private:
+    static constexpr int kFirst = 3;       // plain sweeps before the rate may be taken
+    static constexpr int kLast = 12;       // taken by then, settled or not
+    static constexpr double kMax = 0.999;  // the largest l used
+
+    void watch(const Rgb& largest) {
+        for (int c = 0; c < 3; ++c) {
+            m_least[c] = std::min(m_least[c], largest[c]);
+            if (largest[c] > 1e3 * m_least[c]) {
+                m_on = false;
+                m_off = true;
+                m_w = Rgb(1.0);
+            }
+        }
+    }
+
+    std::vector<Rgb> m_weight;  // A / rho per patch and channel (0 for black)
+    std::vector<Rgb> m_d;       // the last plain sweep's change
+    Rgb m_quotient{0.0}, m_l{0.0}, m_w{1.0}, m_least{0.0};
+    bool m_on = false, m_off = false;
+};
+
+}  // namespace
+
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options, const std::vector<Rgb>* start) {
     LinkSolution s;
     s.B = start ? *start : E;
     const std::size_t n = E.size();
-    double previous = 0.0;
+    std::vector<Rgb> older = s.B, next(n), d(n);  // x_{k-1}, J(x_k) and J(x_k) - x_k
+    std::vector<double> changes;                  // s.change per sweep
+    Chebyshev cheb(h, rho);
     for (s.sweeps = 1; s.sweeps <= options.max_sweeps; ++s.sweeps) {
         const std::vector<Rgb> patch_h = h.irradiance(s.B);
         Rgb change(0.0), top(0.0);
         for (std::size_t i = 0; i < n; ++i) {
-            const Rgb b = E[i] + rho[i] * patch_h[i];
-            change = glm::max(change, glm::abs(b - s.B[i]));
-            top = glm::max(top, b);
-            s.B[i] = b;
+            next[i] = E[i] + rho[i] * patch_h[i];
+            d[i] = next[i] - s.B[i];
+            change = glm::max(change, glm::abs(d[i]));
+            top = glm::max(top, next[i]);
         }
         s.change = 0.0;
         for (int c = 0; c < 3; ++c)
             if (top[c] > 0.0) s.change = std::max(s.change, change[c] / top[c]);
-        if (s.change <= options.tolerance) return s;
-        // Jacobi's change shrinks by the spectral radius of rho F per sweep: past a few dozen
-        // sweeps, a rate that would need more than max_sweeps is known already.
-        if (s.sweeps >= 50 && previous > 0.0 && s.change > 0.0) {
-            const double rate = s.change / previous;
+        // The change is J(x) - x, the residual: below the tolerance, J(x) is the answer.
+        if (s.change <= options.tolerance) {
+            s.B = std::move(next);
+            return s;
+        }
+        changes.push_back(s.change);
+        // The change shrinks by a steady rate per sweep (plain: the spectral radius of rho F):
+        // past a few dozen sweeps, a rate that would need more than max_sweeps is known already.
+        // Accelerated changes are not monotone, so the rate is taken over twenty sweeps.
+        if (s.sweeps >= 50 && changes[changes.size() - 21] > 0.0) {
+            const double rate = std::pow(s.change / changes[changes.size() - 21], 0.05);
             if (rate >= 1.0 ||
                 s.sweeps + std::log(options.tolerance / s.change) / std::log(rate) > options.max_sweeps)
                 break;
         }
-        previous = s.change;
+        const bool was_on = cheb.on();
+        if (options.accelerate) cheb.observe(s.sweeps, d, change);
+        if (cheb.on()) {
+            const Rgb w = cheb.weight();
+            for (std::size_t i = 0; i < n; ++i) {
+                const Rgb x = older[i] + w * (next[i] - older[i]);
+                older[i] = s.B[i];
+                s.B[i] = x;
+            }
+            cheb.advance();
+        } else {
+            if (was_on) older = s.B;  // the plain sweeps take over from here
+            std::swap(older, s.B);
+            std::swap(s.B, next);
+        }
     }
     throw Error("the radiosity over the hierarchy's links does not settle within " +
                 std::to_string(options.max_sweeps) + " sweeps (change " + std::to_string(s.change) +

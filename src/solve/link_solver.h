@@ -1,10 +1,10 @@
 #pragma once
 // The radiosity solve over a hierarchy's links (formfactor/hierarchy.h): Jacobi sweeps of
-// gather, push and pull (Hanrahan, Salzman & Aupperle 1991). Each sweep gathers, at every
-// node, the irradiance sum f B_source over its links (B of a node: the area average of its
-// patches'), pushes it down to the patches, sets B = E + rho H there, and pulls the averages
-// back up. O(links + nodes) per sweep, all three channels at once, and the same answer for any
-// thread count (every sum runs over a node's own links, in their sorted order).
+// gather, push and pull (Hanrahan, Salzman & Aupperle 1991), Chebyshev-accelerated. Each sweep
+// gathers, at every node, the irradiance sum f B_source over its links (B of a node: the area
+// average of its patches'), pushes it down to the patches, sets B = E + rho H there, and pulls
+// the averages back up. O(links + nodes) per sweep, all three channels at once, and the same
+// answer for any thread count (every sum runs over a node's own links, in their sorted order).
 #include <vector>
 
 #include "formfactor/hierarchy.h"
@@ -17,6 +17,9 @@ struct LinkSolveOptions {
     // Stop when the largest change of a sweep is below tolerance x max B (per channel).
     double tolerance = 1e-10;
     int max_sweeps = 10000;
+    // Chebyshev acceleration once the first sweeps have measured their rate (about half the
+    // sweeps); false: plain Jacobi sweeps (for comparison).
+    bool accelerate = true;
 };
 
 struct LinkSolution {
