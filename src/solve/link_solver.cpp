@@ -95,11 +95,14 @@ public:
                 den += m_weight[i] * m_d[i] * m_d[i];
             }
             const Rgb was = m_quotient;
-            for (int c = 0; c < 3; ++c) m_quotient[c] = den[c] > 0.0 ? std::clamp(num[c] / den[c], 0.0, 1.0) : 0.0;
+            for (int c = 0; c < 3; ++c)
+                m_quotient[c] = den[c] > 0.0 ? std::clamp(num[c] / den[c], 0.0, 1.0) : 0.0;
             bool settled = true;
-            for (int c = 0; c < 3; ++c) settled = settled && std::abs(m_quotient[c] - was[c]) <= 0.01 * m_quotient[c];
+            for (int c = 0; c < 3; ++c)
+                settled = settled && std::abs(m_quotient[c] - was[c]) <= 0.01 * m_quotient[c];
             if (sweep >= kLast || (sweep >= kFirst && settled)) {
-                for (int c = 0; c < 3; ++c) m_l[c] = std::min(m_quotient[c] + 0.1 * (1.0 - m_quotient[c]), kMax);
+                for (int c = 0; c < 3; ++c)
+                    m_l[c] = std::min(m_quotient[c] + 0.1 * (1.0 - m_quotient[c]), kMax);
                 m_on = true;
                 m_least = largest;
                 // This sweep's J(x_k) with x_k = J(x_{k-1}) makes the second Chebyshev step.
