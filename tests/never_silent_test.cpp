@@ -77,6 +77,32 @@ TEST(NeverSilent, IntersectingSurfacesAreNamedAndStrictRefusesThem) {
     fs::remove_all(d);
 }
 
+// The same for a curved type, whose crossing is found by sampling: the seed scene with a
+// column through its floor.
+TEST(NeverSilent, AColumnThroughTheFloorIsNamedAndStrictRefusesIt) {
+    const fs::path d = fresh_dir("radiosa_silent_column");
+    std::ifstream in(kScene);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    text +=
+        "  - {name: column, type: cylinder, base: [1.2, 1.2, -2.5], axis: [0, 0, 1.5], radius: 0.2,\n"
+        "     patches: [4, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+    std::ofstream(d / "column.yaml") << text;
+    const std::string scene = (d / "column.yaml").string();
+    CliRun r = run({"formfactors", scene, "--gauss-points", "2", "--report", (d / "a.json").string()});
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: surfaces intersect: 'face1' and 'column'. "), std::string::npos) << r.err;
+    EXPECT_EQ(read_json(d / "a.json")["surface_intersections"],
+              nlohmann::json::parse(R"([["face1", "column"]])"));
+    fs::remove(d / "a.json");
+    r = run({"formfactors", scene, "--gauss-points", "2", "--report", (d / "a.json").string(), "--strict"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_TRUE(std::regex_search(
+        r.err, std::regex("^error: .*column.yaml:[0-9]+:[0-9]+: surfaces intersect: 'face1' and 'column'")))
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / "a.json"));
+    fs::remove_all(d);
+}
+
 TEST(NeverSilent, EntriesOverTheirToleranceAreCountedAndTheWorstIsNamed) {
     const fs::path d = fresh_dir("radiosa_silent_nested");
     const fs::path scene = write_nested_scene(d);

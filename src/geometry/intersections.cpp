@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "geometry/scene_geometry.h"
 #include "util/convex_distance.h"
@@ -82,6 +83,63 @@ bool spheres_cross(const BoundingSphere& a, const BoundingSphere& b, double eps)
     return d < a.radius + b.radius - eps && d > std::abs(a.radius - b.radius) + eps;
 }
 
+// Whether a chord between neighbouring points of a's kSamples x kSamples grid (along s or
+// along t) crosses b strictly inside both: at least `margin` of the chord from its ends, and
+// b's parameters at least 1e-6 from an edge that is not a seam.
+constexpr int kSamples = 33;
+
+bool inside_parameters(const Surface& b, const SurfaceHit& h) {
+    constexpr double d = 1e-6;
+    const auto in = [&](double x, bool wraps) { return wraps || (x > d && x < 1.0 - d); };
+    return in(h.s, b.wraps_in_s()) && in(h.t, b.wraps_in_t());
+}
+
+// The chord passes from one side of b to the other there (its ends on either side of b's
+// tangent plane by more than eps), rather than touching it (a ring resting on a floor).
+bool transversal(const Surface& b, const SurfaceHit& h, const Vec3& x, const Vec3& p0, const Vec3& p1,
+                 double eps) {
+    const Vec3 n = b.normal(h.s, h.t);
+    const double len = glm::length(n);
+    if (!(len > 0.0)) return false;  // a pole or collapsed edge: no tangent plane to cross
+    const double d0 = glm::dot(p0 - x, n) / len, d1 = glm::dot(p1 - x, n) / len;
+    return d0 * d1 < 0.0 && std::min(std::abs(d0), std::abs(d1)) > eps;
+}
+
+bool chord_crosses(const Surface& b, const Vec3& p0, const Vec3& p1, double eps) {
+    const double len = glm::length(p1 - p0);
+    if (!(len > eps)) return false;  // a collapsed edge or pole
+    const Ray ray{p0, (p1 - p0) / len};
+    const double margin = std::max(1e-7 * len, eps);
+    double from = margin;
+    for (int k = 0; k < 8 && from < len - margin; ++k) {  // past hits on b's edges, a few more
+        const auto h = b.intersect(ray, from, len - margin, HitSide::Any);
+        if (!h) return false;
+        if (inside_parameters(b, *h) && transversal(b, *h, ray.at(h->dist), p0, p1, eps)) return true;
+        from = h->dist + margin;
+    }
+    return false;
+}
+
+bool chords_cross(const Surface& a, const Surface& b, double eps) {
+    constexpr double step = 1.0 / (kSamples - 1);
+    std::vector<Vec3> grid(kSamples * kSamples);
+    for (int j = 0; j < kSamples; ++j)
+        for (int i = 0; i < kSamples; ++i) grid[j * kSamples + i] = a.point(i * step, j * step);
+    for (int j = 0; j < kSamples; ++j)
+        for (int i = 0; i + 1 < kSamples; ++i)
+            if (chord_crosses(b, grid[j * kSamples + i], grid[j * kSamples + i + 1], eps) ||
+                chord_crosses(b, grid[i * kSamples + j], grid[(i + 1) * kSamples + j], eps))
+                return true;
+    return false;
+}
+
+bool sampled_cross(const SceneGeometry& g, int a, int b, double eps) {
+    if (g.entry(a) >= 0 && g.entry(a) == g.entry(b)) return false;  // parts or sides of one entry
+    const BoundingSphere &ba = g.surface_bound(a), &bb = g.surface_bound(b);
+    if (glm::length(ba.center - bb.center) > ba.radius + bb.radius + eps) return false;
+    return chords_cross(g.surface(a), g.surface(b), eps) || chords_cross(g.surface(b), g.surface(a), eps);
+}
+
 }  // namespace
 
 std::vector<SurfaceIntersection> find_intersections(const SceneGeometry& g) {
@@ -101,6 +159,8 @@ std::vector<SurfaceIntersection> find_intersections(const SceneGeometry& g) {
                 cross = sphere_crosses_polygon(*sb.sphere, *sa.polygon, eps);
             else if (sa.sphere && sb.sphere)
                 cross = spheres_cross(*sa.sphere, *sb.sphere, eps);
+            else
+                cross = sampled_cross(g, a, b, eps);
             if (cross) out.push_back({a, b});
         }
     return out;

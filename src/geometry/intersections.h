@@ -4,6 +4,13 @@
 // closure and the energy balance no longer mean what they say. Detected exactly for the pairs
 // of types whose shape is known in closed form (planar convex polygons and whole spheres);
 // touching (a shared edge, a wall standing on a floor, a tangent sphere) is not intersecting.
+// Other pairs (disks, tubes, cones, tori, partial spheres, Bezier patches, with any type) are
+// sampled: each surface's isoparametric lines, as chords between 33 x 33 points, are tested
+// against the other with its exact ray intersection; a crossing counts when it lies strictly
+// inside both (not at a chord's end, not on the other's parameter boundary, where surfaces
+// meet along an edge or a rim) and the chord passes through the other's tangent plane there
+// (not touching it, as a ring resting on a floor). Surfaces made by one entry of the scene file (a type's
+// parts, a back side) are not compared by sampling.
 #include <string>
 #include <vector>
 

@@ -19,6 +19,7 @@ SceneGeometry::SceneGeometry(const Scene& scene) : m_index(std::make_shared<Lazy
         m_ns.push_back(desc.ns);
         m_nt.push_back(desc.nt);
         m_twin.push_back(desc.twin);
+        m_entry.push_back(desc.entry);
         m_first_patch.push_back(static_cast<int>(m_patches.size()));
         const Surface& surf = *m_surfaces.back();
         const bool polygon = surf.patches_are_polygons();

@@ -46,6 +46,9 @@ public:
     int first_patch(int k) const { return m_first_patch[k]; }
     // The other side of a two-sided surface (the same geometry, facing the other way), or -1.
     int twin(int k) const { return m_twin[k]; }
+    // The scene file's `surfaces` entry it came from (an entry may make several surfaces: a
+    // type's parts, a back side), or -1 for a surface made otherwise.
+    int entry(int k) const { return m_entry[k]; }
     int patch_index(int k, int is, int it) const { return m_first_patch[k] + it * m_ns[k] + is; }
 
     int patch_count() const { return static_cast<int>(m_patches.size()); }
@@ -77,7 +80,7 @@ public:
 private:
     std::vector<std::shared_ptr<const Surface>> m_surfaces;
     std::vector<std::string> m_names;
-    std::vector<int> m_ns, m_nt, m_first_patch, m_twin;
+    std::vector<int> m_ns, m_nt, m_first_patch, m_twin, m_entry;
     std::vector<Patch> m_patches;
     std::vector<BoundingSphere> m_surface_bounds;
     double m_scale = 1.0;
