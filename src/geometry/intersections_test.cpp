@@ -71,10 +71,10 @@ TEST(Intersections, SpheresThatCrossAreFoundNestedOrTouchingAreNot) {
 }
 
 // Curved types other than whole spheres are sampled along their isoparametric lines: a column
-// through a table, a lamp disk through a wall, a dome sunk into the floor, a ring through a wall
-// are found; a column standing on the floor under a ceiling, a disk lying on the floor, a closed
-// can (two disks on a tube's rims), a ring resting on the floor and a shade over its lamp are
-// not.
+// through a table (also through its edge), an upright disk half sunk into the floor, a dome sunk
+// into it, a ring sunk into it are found; a column standing between floor and ceiling or on the
+// table, a disk standing or lying on the floor, a closed can (two disks on a tube's rims), a
+// ring resting on the floor and a shade over its lamp are not.
 TEST(Intersections, CurvedTypesThatCrossAreFoundThoseThatTouchAreNot) {
     const std::string floor = quad("floor", "[[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]]");
     const std::string ceiling = quad("ceiling", "[[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]]");
