@@ -44,7 +44,10 @@ Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vecto
     });
     std::vector<Rgb> e = h.to_patches(std::move(node_e));
     for (std::size_t i = 0; i < e.size(); ++i) e[i] *= m.rho[i];
-    const std::vector<Rgb> d = solve_links(h, m.rho, e, options).B;
+    // An estimate needs no more digits than a millionth of itself.
+    LinkSolveOptions o = options;
+    o.tolerance = std::max(o.tolerance, 1e-6);
+    const std::vector<Rgb> d = solve_links(h, m.rho, e, o).B;
     Rgb out(0.0);
     for (int c = 0; c < 3; ++c) {
         double max_b = 0.0, max_d = 0.0;

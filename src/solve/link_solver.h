@@ -44,7 +44,8 @@ SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const st
 // An estimate (not a bound) of max_i |B_i - B*_i| / max_i B_i per channel, B* the radiosity with
 // exact coupling: every link's estimate times the largest radiosity under its source node, pushed
 // to the patches and carried through the scene's interreflection by one more link solve
-// ((I - rho F) d = rho e). 0 for a dark channel.
+// ((I - rho F) d = rho e), to a change of at most 1e-6 of its largest value (or `options`'
+// tolerance, if looser): digits enough for an estimate. 0 for a dark channel.
 Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
                         const LinkSolveOptions& options = {});
 
