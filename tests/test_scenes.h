@@ -1,5 +1,7 @@
 #pragma once
 // Small scenes shared by the tests, built from YAML strings.
+#include <fmt/format.h>
+
 #include <string>
 
 #include "formfactor/form_factor.h"
@@ -37,6 +39,18 @@ inline std::string ball_beside_walls() {
 inline Scene scene_of(const std::string& surfaces, bool closed = false) {
     return parse_scene(std::string("closed: ") + (closed ? "true" : "false") + "\nsurfaces:\n" + surfaces,
                        "test.yaml");
+}
+
+// A furnace: a closed inward sphere of radius 1 split 8 x 4 with reflectance rho and emission
+// `emission` in every channel. Every row of its form factors sums to 1, so B = E / (1 - rho).
+inline Scene furnace(double rho, double emission = 1.0) {
+    const auto num = [](double x) { return fmt::format("{:.17g}", x); };
+    const std::string r = num(rho), e = num(emission);
+    return parse_scene(
+        "closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n"
+        "    radius: 1\n    facing: inward\n    patches: [8, 4]\n    reflectance: [" +
+            r + ", " + r + ", " + r + "]\n    emission: [" + e + ", " + e + ", " + e + "]\n",
+        "furnace.yaml");
 }
 
 // The six faces of the cube [-h, h]^3 shifted by `offset` along every axis, facing in, as YAML list

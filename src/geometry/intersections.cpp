@@ -120,11 +120,17 @@ bool chord_crosses(const Surface& b, const Vec3& p0, const Vec3& p1, double eps)
     return false;
 }
 
-bool chords_cross(const Surface& a, const Surface& b, double eps) {
+// a's kSamples x kSamples points, row j (t = j / (kSamples - 1)) after row j - 1.
+std::vector<Vec3> sample_grid(const Surface& a) {
     constexpr double step = 1.0 / (kSamples - 1);
     std::vector<Vec3> grid(kSamples * kSamples);
     for (int j = 0; j < kSamples; ++j)
         for (int i = 0; i < kSamples; ++i) grid[j * kSamples + i] = a.point(i * step, j * step);
+    return grid;
+}
+
+// Whether a chord of the grid, along s or along t, crosses b.
+bool chords_cross(const std::vector<Vec3>& grid, const Surface& b, double eps) {
     for (int j = 0; j < kSamples; ++j)
         for (int i = 0; i + 1 < kSamples; ++i)
             if (chord_crosses(b, grid[j * kSamples + i], grid[j * kSamples + i + 1], eps) ||
@@ -133,11 +139,13 @@ bool chords_cross(const Surface& a, const Surface& b, double eps) {
     return false;
 }
 
-bool sampled_cross(const SceneGeometry& g, int a, int b, double eps) {
+// The sampled check of surfaces a and b; grid(k) is surface k's sample_grid, made once.
+template <class Grid>
+bool sampled_cross(const SceneGeometry& g, int a, int b, double eps, Grid&& grid) {
     if (g.entry(a) >= 0 && g.entry(a) == g.entry(b)) return false;  // parts or sides of one entry
     const BoundingSphere &ba = g.surface_bound(a), &bb = g.surface_bound(b);
     if (glm::length(ba.center - bb.center) > ba.radius + bb.radius + eps) return false;
-    return chords_cross(g.surface(a), g.surface(b), eps) || chords_cross(g.surface(b), g.surface(a), eps);
+    return chords_cross(grid(a), g.surface(b), eps) || chords_cross(grid(b), g.surface(a), eps);
 }
 
 }  // namespace
@@ -147,6 +155,12 @@ std::vector<SurfaceIntersection> find_intersections(const SceneGeometry& g) {
     const double eps = 1e-9 * g.scale();
     std::vector<Shape> shapes;
     for (int k = 0; k < g.surface_count(); ++k) shapes.push_back(shape_of(g.surface(k)));
+    std::vector<std::vector<Vec3>> grids(static_cast<std::size_t>(g.surface_count()));
+    const auto grid = [&](int k) -> const std::vector<Vec3>& {
+        std::vector<Vec3>& points = grids[static_cast<std::size_t>(k)];
+        if (points.empty()) points = sample_grid(g.surface(k));
+        return points;
+    };
     for (int a = 0; a < g.surface_count(); ++a)
         for (int b = a + 1; b < g.surface_count(); ++b) {
             const Shape &sa = shapes[a], &sb = shapes[b];
@@ -160,7 +174,7 @@ std::vector<SurfaceIntersection> find_intersections(const SceneGeometry& g) {
             else if (sa.sphere && sb.sphere)
                 cross = spheres_cross(*sa.sphere, *sb.sphere, eps);
             else
-                cross = sampled_cross(g, a, b, eps);
+                cross = sampled_cross(g, a, b, eps, grid);
             if (cross) out.push_back({a, b});
         }
     return out;

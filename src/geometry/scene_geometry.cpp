@@ -98,11 +98,12 @@ void SceneGeometry::intersect_front(const Ray* rays, std::size_t count, std::opt
         for (std::size_t i = 0; i < count; ++i) hits[i] = intersect_front_by_loop(rays[i]);
         return;
     }
+    const RayIndex& rays_index = index();
     constexpr std::size_t kChunk = 64;  // on the stack: no allocation per call
     RayIndex::Found found[kChunk];
     for (std::size_t first = 0; first < count; first += kChunk) {
         const std::size_t n = std::min(kChunk, count - first);
-        index().nearest_front(rays + first, n, found);
+        rays_index.nearest_front(rays + first, n, found);
         for (std::size_t i = 0; i < n; ++i) {
             const RayIndex::Found& f = found[i];
             if (f.surface < 0)

@@ -21,6 +21,14 @@ std::vector<Rgb> pull_max(const Hierarchy& h, const std::vector<Rgb>& B) {
     return top;
 }
 
+// Each patch's area (its leaf node's).
+std::vector<double> patch_areas(const Hierarchy& h) {
+    std::vector<double> area;
+    area.reserve(h.leaf_of_patch.size());
+    for (const int leaf : h.leaf_of_patch) area.push_back(h.nodes[static_cast<std::size_t>(leaf)].area);
+    return area;
+}
+
 }  // namespace
 
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B) {
@@ -29,10 +37,7 @@ SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const st
 
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
                                 const std::vector<Rgb>& H) {
-    std::vector<double> area;
-    area.reserve(B.size());
-    for (const int leaf : h.leaf_of_patch) area.push_back(h.nodes[static_cast<std::size_t>(leaf)].area);
-    return diagnose_irradiance(area, m, B, H);
+    return diagnose_irradiance(patch_areas(h), m, B, H);
 }
 
 Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
@@ -77,11 +82,10 @@ namespace {
 class Chebyshev {
 public:
     Chebyshev(const Hierarchy& h, const std::vector<Rgb>& rho) : m_weight(rho.size(), Rgb(0.0)) {
-        for (std::size_t i = 0; i < rho.size(); ++i) {
-            const double area = h.nodes[static_cast<std::size_t>(h.leaf_of_patch[i])].area;
+        const std::vector<double> area = patch_areas(h);
+        for (std::size_t i = 0; i < rho.size(); ++i)
             for (int c = 0; c < 3; ++c)
-                if (rho[i][c] > 0.0) m_weight[i][c] = area / rho[i][c];
-        }
+                if (rho[i][c] > 0.0) m_weight[i][c] = area[i] / rho[i][c];
     }
     bool on() const { return m_on; }
     const Rgb& weight() const { return m_w; }

@@ -17,6 +17,7 @@ namespace radiosa {
 namespace {
 
 using test::cube_faces;
+using test::furnace;
 using test::scene_of;
 
 // A closed cube of 8 x 8 patches per face with links between groups of patches, lit from f1, with
@@ -79,16 +80,7 @@ TEST(LinkSolve, MatchesLUOnTheLinksOwnMatrixInHalfTheSweeps) {
 }
 
 TEST(LinkSolve, AFurnaceThatCannotSettleIsAnError) {
-    // A closed inward sphere: every row of F sums to 1, so B = E / (1 - rho).
-    auto furnace = [](double rho) {
-        const Scene s = scene_of(
-            "  - {name: shell, type: sphere, center: [0, 0, 0], radius: 1, facing: inward, patches: [8, 4],\n"
-            "     reflectance: [" +
-                std::to_string(rho) + ", " + std::to_string(rho) + ", " + std::to_string(rho) +
-                "], emission: [1, 1, 1]}\n",
-            true);
-        return s;
-    };
+    // test::furnace: B = E / (1 - rho).
     {
         const Scene s = furnace(0.9);
         const SceneGeometry g(s);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "../tests/record.h"
+#include "../tests/test_scenes.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -16,17 +17,7 @@ namespace radiosa {
 
 namespace {
 
-Scene furnace(double rho, double emission = 1.0) {
-    const std::string r = std::to_string(rho), e = std::to_string(emission);
-    char buf[512];
-    std::snprintf(
-        buf, sizeof buf,
-        "closed: true\nsurfaces:\n  - name: shell\n    type: sphere\n    center: [0, 0, 0]\n    radius: 1\n"
-        "    facing: inward\n    patches: [8, 4]\n    reflectance: [%.17g, %.17g, %.17g]\n"
-        "    emission: [%.17g, %.17g, %.17g]\n",
-        rho, rho, rho, emission, emission, emission);
-    return parse_scene(buf, "furnace.yaml");
-}
+using test::furnace;
 
 // A scene's error-controlled form factors and its patches' reflectance and emission.
 struct System {
