@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "formfactor/convex_clip.h"
 #include "formfactor/cubature.h"
 #include "surfaces/surface.h"
 #include "util/math.h"
@@ -68,9 +69,27 @@ public:
                 if (l != k) edges_vertices(occ[k], occ[l]);
         }
     }
+    // A flat disk or annulus between the source and the polygon v (formfactor/disk_shadow.h):
+    // x on a plane through an edge of v tangent to a rim (the rim's outline touching the
+    // edge's great circle), and x on the cone from a vertex of v over a rim (the outline
+    // passing the vertex); and x on the disk's plane, where the disk turns edge-on and its
+    // shadow starts or ends.
+    void add_disk(const std::array<Vec3, 4>& v, const FlatDisk& d) {
+        m_planes.push_back({d.normal, d.center});
+        for (const double rho : {d.radius, d.inner_radius}) {
+            if (!(rho > 0.0)) continue;
+            for (int k = 0; k < 4; ++k) {
+                add_rim_tangents(v[k], v[(k + 1) % 4], d.center, d.normal, rho);
+                if (glm::dot(d.normal, v[k] - d.center) != 0.0)
+                    m_rim_cones.push_back({v[k], d.center, d.normal, rho});
+            }
+        }
+    }
     // The receiver's own plane (x passing behind it). `n` need not be unit.
     void add_plane(const Vec3& n, const Vec3& p) { m_planes.push_back({n, p}); }
-    bool empty() const { return m_horizons.empty() && m_planes.empty() && m_cones.empty(); }
+    bool empty() const {
+        return m_horizons.empty() && m_planes.empty() && m_cones.empty() && m_rim_cones.empty();
+    }
 
     // Does an event cross the region? Planes, and the horizons of a sphere (x's tangent plane
     // passes v where (x - c) . (v - c) = R^2: a plane too), exactly, from the range of a . x
@@ -98,6 +117,10 @@ public:
                                            si.point(r.s0, r.t1)};
             for (const Cone& c : m_cones)
                 if (cone_meets_polygon(c, q)) return true;
+            for (const RimCone& c : m_rim_cones)
+                if (rim_cone_meets_polygon(c, q)) return true;
+        } else if (!m_rim_cones.empty()) {
+            return true;  // not tested on curved patches: taken as crossing
         }
         const std::size_t cones = flat ? 0 : m_cones.size();
         const std::size_t n = (ball ? 0 : m_horizons.size()) + cones;
@@ -223,6 +246,80 @@ private:
         }
         return lo < cos_a && cos_a < hi;
     }
+    // The cone from `apex` over the circle of radius rho about `center` in the plane with unit
+    // normal `normal`.
+    struct RimCone {
+        Vec3 apex, center, normal;
+        double rho;
+    };
+
+    // Does the cone meet the planar convex polygon q? Only points x beyond the circle's plane
+    // from the apex see the apex past the circle: q is cut to them and projected from the apex
+    // onto the plane (a convex polygon); the cone meets q where that polygon has points both
+    // nearer the centre than rho and farther (the farthest is a corner, the nearest the centre
+    // itself when inside, else a point of an edge).
+    static bool rim_cone_meets_polygon(const RimCone& c, const std::array<Vec3, 4>& q) {
+        const double side = glm::dot(c.normal, c.apex - c.center);
+        PolygonBuffer<8> p;
+        for (const Vec3& y : q) p.v[p.n++] = y;
+        p = clip_half_space(p, side > 0.0 ? -c.normal : c.normal, c.center);
+        if (p.n < 3) return false;
+        double far2 = 0.0;
+        for (int k = 0; k < p.n; ++k) {
+            const Vec3 d = p.v[k] - c.apex;
+            const double along = glm::dot(c.normal, d);
+            if (along == 0.0) return true;  // a corner on the plane through the apex: cannot tell
+            p.v[k] = c.apex + d * (-side / along) - c.center;  // on the plane, from the centre
+            far2 = std::max(far2, glm::dot(p.v[k], p.v[k]));
+        }
+        const double rho2 = c.rho * c.rho;
+        if (!(far2 > rho2)) return false;
+        // The centre is inside when it lies on the same side of every edge as the polygon turns.
+        double turn = 0.0;
+        for (int k = 0; k < p.n; ++k) turn += glm::dot(c.normal, glm::cross(p.v[k], p.v[(k + 1) % p.n]));
+        bool inside = true;
+        double near2 = far2;
+        for (int k = 0; k < p.n; ++k) {
+            const Vec3 a = p.v[k], e = p.v[(k + 1) % p.n] - a;
+            inside = inside && glm::dot(c.normal, glm::cross(a, p.v[(k + 1) % p.n])) * turn >= 0.0;
+            const double l2 = glm::dot(e, e);
+            const double t = l2 > 0.0 ? std::clamp(-glm::dot(a, e) / l2, 0.0, 1.0) : 0.0;
+            const Vec3 w = a + t * e;
+            near2 = std::min(near2, glm::dot(w, w));
+        }
+        return inside || near2 < rho2;
+    }
+
+    // The planes through the line p -> q tangent to the circle: with (a, b) an orthonormal pair
+    // across the line, the plane of normal N = cos(t) a + sin(t) b touches the circle where
+    // (N . (centre - p))^2 = rho^2 (1 - (N . normal)^2), a quadratic form in (cos t, sin t)
+    // whose two zero directions lie between its eigenvectors.
+    void add_rim_tangents(const Vec3& p, const Vec3& q, const Vec3& center, const Vec3& normal, double rho) {
+        const double len = glm::length(q - p);
+        if (!(len > 0.0)) return;
+        const Vec3 u = (q - p) / len;
+        const Vec3 a =
+            glm::normalize(std::abs(u.x) < 0.9 ? glm::cross(u, Vec3(1, 0, 0)) : glm::cross(u, Vec3(0, 1, 0)));
+        const Vec3 b = glm::cross(u, a);
+        const double wa = glm::dot(a, center - p), wb = glm::dot(b, center - p);
+        const double na = glm::dot(a, normal), nb = glm::dot(b, normal), r2 = rho * rho;
+        const double q11 = wa * wa + r2 * (na * na - 1.0), q22 = wb * wb + r2 * (nb * nb - 1.0),
+                     q12 = wa * wb + r2 * na * nb;
+        // Eigenvalues l1 <= l2 and the unit eigenvector (c1, s1) of l1.
+        const double mean = 0.5 * (q11 + q22), dev = std::hypot(0.5 * (q11 - q22), q12);
+        const double l1 = mean - dev, l2 = mean + dev;
+        if (!(l1 < 0.0 && l2 > 0.0)) return;  // every plane through the line cuts the circle, or none does
+        const double angle = 0.5 * std::atan2(2.0 * q12, q11 - q22);  // eigenvector of l2
+        const double c2 = std::cos(angle), s2 = std::sin(angle), c1 = -s2, s1 = c2;
+        const double phi = std::atan(std::sqrt(-l1 / l2));
+        for (const double sg : {1.0, -1.0}) {
+            const double cf = std::cos(phi), sf = sg * std::sin(phi);
+            const double cc = cf * c1 + sf * c2, ss = cf * s1 + sf * s2;
+            m_planes.push_back({cc * a + ss * b, p});
+        }
+    }
+
+    std::vector<RimCone> m_rim_cones;
     std::vector<Vec3> m_horizons;
     std::vector<std::pair<Vec3, Vec3>> m_planes;  // normal, point
     std::vector<Cone> m_cones;

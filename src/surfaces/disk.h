@@ -23,6 +23,10 @@ public:
     std::optional<Plane> plane() const override {
         return Plane{m_frame.axis, glm::dot(m_frame.axis, m_center)};
     }
+    std::optional<FlatDisk> flat_disk() const override {
+        if (!m_angles.full()) return std::nullopt;
+        return FlatDisk{m_center, m_frame.axis, m_radius, m_inner};
+    }
     bool chords_never_cross() const override { return true; }
     bool front_segments_escape() const override { return true; }
     bool sees_itself() const override { return false; }

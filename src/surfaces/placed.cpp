@@ -95,6 +95,16 @@ std::optional<ConvexSolid> PlacedSurface::convex_solid() const {
     return c;
 }
 
+std::optional<FlatDisk> PlacedSurface::flat_disk() const {
+    auto d = m_inner->flat_disk();
+    if (!d) return std::nullopt;
+    d->center = m_xf.apply(d->center);
+    d->normal = (m_back ? -1.0 : 1.0) * (m_xf.rotate * d->normal);
+    d->radius *= m_xf.scale;
+    d->inner_radius *= m_xf.scale;
+    return d;
+}
+
 void PlacedSurface::write_key(ByteWriter& w) const {
     m_inner->write_key(w);
     w.f64(m_xf.scale);

@@ -68,6 +68,7 @@ public:
     bool patch_contour(double s0, double s1, double t0, double t1,
                        std::vector<ContourPiece>* out) const override;
     std::optional<ConvexSolid> convex_solid() const override;
+    std::optional<FlatDisk> flat_disk() const override;
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override {
         const Mat3 inv = glm::transpose(m_xf.rotate);

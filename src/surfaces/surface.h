@@ -37,6 +37,14 @@ struct ConvexSolid {
     double radius = 0.0;
 };
 
+// A whole flat disk or annulus: the points of the plane through `center` with unit normal
+// `normal` whose distance from the centre lies between `inner_radius` and `radius`.
+struct FlatDisk {
+    Vec3 center{0.0};
+    Vec3 normal{0.0, 0.0, 1.0};
+    double radius = 0.0, inner_radius = 0.0;
+};
+
 // A piece of a patch's boundary: the segment from a to b, or the arc
 // center + radius (cos u e1 + sin u e2) for u running from `from` to `to` (either order).
 struct ContourPiece {
@@ -126,6 +134,9 @@ public:
     // cylinder), if there is one: a segment from a point inside it meets the surface only at its
     // ends, and the surface's concave side faces every point inside.
     virtual std::optional<ConvexSolid> convex_solid() const { return std::nullopt; }
+    // The whole surface as a flat disk or annulus (every angle), if it is one: its shadow seen
+    // from a point is the cone over its rims (formfactor/disk_shadow.h).
+    virtual std::optional<FlatDisk> flat_disk() const { return std::nullopt; }
     // The largest distance of a point of the parameter rectangle from the line through p along
     // the unit vector u: exact where the line is the surface's own axis and for polygon patches;
     // this default, from bound(), may be larger but never smaller.
