@@ -2,8 +2,9 @@
 // Form factors toward a planar patch (a polygon) with the inner integral in closed form: the
 // point-to-polygon formula (Lambert's), minus what occluders hide. The occluders this path
 // accepts are whole balls whose shadows never overlap as seen from the source patch (each
-// hides a part of the polygon in closed form: formfactor/point_polygon.h) or a few flat convex
-// quads (their shadows on the polygon are polygons). Between two polygons with occluders the
+// hides a part of the polygon in closed form: formfactor/point_polygon.h), a few flat convex
+// quads (their shadows on the polygon are polygons) or one whole flat disk or annulus
+// (formfactor/disk_shadow.h). Between two polygons with occluders the
 // unblocked exchange is the contour integral and only the shadow is integrated over the source
 // patch. The outer integral is adaptive, cut along shadow edges and horizons
 // (formfactor/events.h).
