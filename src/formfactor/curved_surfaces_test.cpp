@@ -407,3 +407,41 @@ TEST(Sensor, AnOccluderTakesItsConeAway) {
 }
 
 }  // namespace radiosa
+
+namespace radiosa {
+
+TEST(Sensor, UnderAPlateOrABallTheCeilingLosesTheirConeInClosedForm) {
+    // A sensor at the origin facing up, a ceiling 4 x 4 at height 2 split 3 x 3, and between
+    // them a two-sided plate of radius 0.4 at height 0.7 (it hides r^2 / (r^2 + h^2)) or a ball
+    // of radius 0.3 at height 0.8 (it hides sin^2 of its angular radius, (R / L)^2): every
+    // ceiling patch in closed form, the sum exact.
+    const std::string ceiling =
+        "  - {name: ceiling, type: quad, corners: [[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]], patches: "
+        "[3, 3],"
+        " reflectance: [0, 0, 0]}\n";
+    const double X = 1.0, Y = 1.0;  // each quarter of the ceiling: a 2 x 2 rectangle with a corner overhead
+    const double quarter = (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+                            Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
+                           (2 * kPi);
+    struct Case {
+        std::string occluder;
+        double hidden;
+    };
+    const Case cases[] = {
+        {"  - {name: plate, type: disk, center: [0, 0, 0.7], normal: [0, 0, 1], radius: 0.4, patches: [1, 1],"
+         " reflectance: [0, 0, 0], two_sided: true}\n",
+         0.16 / (0.16 + 0.49)},
+        {"  - {name: ball, type: sphere, center: [0, 0, 0.8], radius: 0.3, patches: [2, 2], reflectance: [0, "
+         "0, 0]}\n",
+         0.09 / 0.64}};
+    for (const Case& c : cases) {
+        const Scene scene = sensor_scene(ceiling + c.occluder);
+        const SensorFactors s = sensor_factors(SceneGeometry(scene), Vec3(0), Vec3(0, 0, 1), 1e-10, true);
+        double sum = 0.0;
+        for (int j = 0; j < 9; ++j) sum += s.F[static_cast<std::size_t>(j)];
+        EXPECT_NEAR(sum, 4 * quarter - c.hidden, 1e-12) << c.occluder;
+        EXPECT_GE(s.closed_form, 9) << c.occluder;
+    }
+}
+
+}  // namespace radiosa

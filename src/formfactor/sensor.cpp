@@ -10,6 +10,7 @@
 #include "formfactor/blocker_set.h"
 #include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
+#include "formfactor/disk_shadow.h"
 #include "formfactor/point_polygon.h"
 #include "formfactor/spherical_region.h"
 #include "util/convex_distance.h"
@@ -123,6 +124,44 @@ std::optional<ContourValue> by_contour(const SceneGeometry& g, const Vec3& x, co
     return std::nullopt;
 }
 
+// F(dA -> j) in closed form for a polygon patch that only one ball or one flat disk (either
+// side or both of a two-sided one) can hide from x: Lambert's formula minus the ball's cap of
+// directions or the disk's cone, each cut to the polygon (point_polygon.h, disk_shadow.h). The
+// occluder must lie wholly on j's front side, the disk also wholly in front of x.
+std::optional<ContourValue> by_shadow(const SceneGeometry& g, const Vec3& x, const Vec3& n, int j,
+                                      const std::vector<int>& blockers) {
+    const Patch& pj = g.patch(j);
+    const auto plane = g.surface(pj.surface).plane();
+    if (!pj.polygon || !plane || blockers.empty()) return std::nullopt;
+    const std::array<Vec3, 4> v = g.front_polygon(j);
+    const double margin = 1e-9 * g.scale();
+    ContourValue c;
+    c.error = 64 * std::numeric_limits<double>::epsilon();
+    const Surface& first = g.surface(blockers[0]);
+    if (const auto ball = first.sphere(); ball && first.whole_sphere() && blockers.size() == 1) {
+        if (!(plane->signed_distance(ball->center) > ball->radius + margin) ||
+            !(glm::length(x - ball->center) > ball->radius + margin))
+            return std::nullopt;
+        c.value = point_to_polygon(x, n, v.data(), 4, &*ball);
+        return c;
+    }
+    const auto disk = first.flat_disk();
+    if (!disk) return std::nullopt;
+    for (int k : blockers) {
+        const auto d = g.surface(k).flat_disk();
+        if (!d || d->center != disk->center || d->radius != disk->radius ||
+            d->inner_radius != disk->inner_radius)
+            return std::nullopt;
+    }
+    if (!(disk_min_signed_distance(*disk, plane->normal, plane->offset) > margin) ||
+        !(disk_min_signed_distance(*disk, n, glm::dot(n, x)) > margin))
+        return std::nullopt;
+    const DiskShadowValue hidden = point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *disk);
+    c.value = std::max(0.0, point_to_polygon(x, n, v.data(), 4, nullptr) - hidden.value);
+    c.error += hidden.error;
+    return c;
+}
+
 // F(dA -> j) by adaptive cubature over j, every blocker tested.
 Estimate by_cubature(const SceneGeometry& g, const Vec3& x, const Vec3& n, const Patch& pj,
                      const std::vector<int>& blockers, double tol) {
@@ -175,13 +214,13 @@ SensorFactors sensor_factors(const SceneGeometry& g, const Vec3& x, const Vec3& 
                 continue;
             if (const auto pl = sj.plane(); pl && pl->signed_distance(x) <= 0.0) continue;
             const std::vector<int> blockers = visibility ? blockers_of(g, x, pj, eps) : std::vector<int>{};
-            if (blockers.empty())
-                if (const auto c = by_contour(g, x, unit_normal, j, tolerance)) {
-                    out.F[j] = c->value;
-                    out.error[j] = c->error;
-                    closed[j] = 1;
-                    continue;
-                }
+            if (const auto c = blockers.empty() ? by_contour(g, x, unit_normal, j, tolerance)
+                                                : by_shadow(g, x, unit_normal, j, blockers)) {
+                out.F[j] = c->value;
+                out.error[j] = c->error;
+                closed[j] = 1;
+                continue;
+            }
             const Estimate e = by_cubature(g, x, unit_normal, pj, blockers, tolerance);
             out.F[j] = e.value;
             out.error[j] = e.error;
