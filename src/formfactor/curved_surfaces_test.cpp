@@ -273,6 +273,42 @@ TEST(CurvedSurfaces, ATiltedAnnulusInABoxCloses) {
                 << i << "," << j;
 }
 
+TEST(CurvedSurfaces, ALampDiskLosesToTheFloorWhatTheTableUnderItReceives) {
+    // A lamp disk (radius 0.3, height 1.5, facing down, 4 x 1 patches) over a wide floor (2 x 2
+    // patches) with a two-sided table disk (radius 0.5, height 0.5) coaxial between them: the
+    // lamp's patches are not polygons, and their pairs with the floor take the table's shadow in
+    // closed form. The table hides from the floor exactly what it receives from the lamp, the
+    // coaxial disks' factor (Howell C-41), so F(lamp -> floor) falls by that much.
+    auto scene = [](bool table) {
+        std::string s =
+            "closed: false\nsurfaces:\n"
+            "  - {name: floor, type: quad, corners: [[-20, -20, 0], [20, -20, 0], [20, 20, 0], "
+            "[-20, 20, 0]], patches: [2, 2], reflectance: [0.5, 0.5, 0.5]}\n"
+            "  - {name: lamp, type: disk, center: [0, 0, 1.5], normal: [0, 0, -1], radius: 0.3, "
+            "patches: [4, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+        if (table)
+            s += "  - {name: table, type: disk, center: [0, 0, 0.5], normal: [0, 0, 1], radius: 0.5, "
+                 "patches: [1, 1], reflectance: [0.5, 0.5, 0.5], two_sided: true}\n";
+        return parse_scene(s, "lamp.yaml");
+    };
+    auto lamp_to_floor = [](const FormFactors& ff) {
+        double af = 0.0, a = 0.0;
+        for (int k = 4; k < 8; ++k) {
+            a += ff.area[k];
+            for (int j = 0; j < 4; ++j) af += ff.area[k] * ff.F(k, j);
+        }
+        return af / a;
+    };
+    const FormFactors open = adaptive(scene(false), 1e-10), shaded = adaptive(scene(true), 1e-10);
+    EXPECT_EQ(shaded.stats.numeric, 0);
+    const double R1 = 0.3 / 1.0, R2 = 0.5 / 1.0, X = 1.0 + (1.0 + R2 * R2) / (R1 * R1);
+    const double coaxial = 0.5 * (X - std::sqrt(X * X - 4.0 * (R2 / R1) * (R2 / R1)));
+    EXPECT_NEAR(lamp_to_floor(open) - lamp_to_floor(shaded), coaxial, 1e-8);
+    double table = 0.0;  // the lamp's factor to the table's top, as a check of the formula
+    for (int k = 4; k < 8; ++k) table += shaded.area[k] * shaded.F(k, 8);
+    EXPECT_NEAR(table / (kPi * 0.09), coaxial, 1e-8);
+}
+
 TEST(CurvedSurfaces, FlatBezierPatchMatchesTheParallelSquares) {
     // A Bezier patch whose control points are an even grid is the square [0,3]^2 exactly; facing
     // a quad 3 above it they are Howell's parallel squares (C-11): 0.19982489569838737.

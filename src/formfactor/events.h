@@ -119,11 +119,9 @@ public:
                 if (cone_meets_polygon(c, q)) return true;
             for (const RimCone& c : m_rim_cones)
                 if (rim_cone_meets_polygon(c, q)) return true;
-        } else if (!m_rim_cones.empty()) {
-            return true;  // not tested on curved patches: taken as crossing
         }
-        const std::size_t cones = flat ? 0 : m_cones.size();
-        const std::size_t n = (ball ? 0 : m_horizons.size()) + cones;
+        const std::size_t cones = flat ? 0 : m_cones.size(), rims = flat ? 0 : m_rim_cones.size();
+        const std::size_t n = (ball ? 0 : m_horizons.size()) + cones + rims;
         if (n == 0) return false;
         std::vector<signed char> sign(n, 0), mixed(n, 0);
         for (int a = 0; a < 3; ++a)
@@ -149,6 +147,7 @@ public:
                     const double along = glm::dot(d, c.axis);
                     note(along > 0.0 ? along * along - c.cos2 * glm::dot(d, d) : -1.0);
                 }
+                for (std::size_t ci = 0; ci < rims; ++ci) note(rim_cone_side(m_rim_cones[ci], x));
             }
         return std::any_of(mixed.begin(), mixed.end(), [](signed char m) { return m != 0; });
     }
@@ -288,6 +287,15 @@ private:
             near2 = std::min(near2, glm::dot(w, w));
         }
         return inside || near2 < rho2;
+    }
+
+    // Where the segment from x to the apex crosses the circle's plane, its squared distance
+    // from the centre less rho^2 (negative inside the circle); positive when it does not cross.
+    static double rim_cone_side(const RimCone& c, const Vec3& x) {
+        const double side = glm::dot(c.normal, c.apex - c.center), at = glm::dot(c.normal, x - c.center);
+        if (!((side > 0.0 && at < 0.0) || (side < 0.0 && at > 0.0))) return 1.0;
+        const Vec3 p = c.apex + (x - c.apex) * (side / (side - at)) - c.center;
+        return glm::dot(p, p) - c.rho * c.rho;
     }
 
     // The planes through the line p -> q tangent to the circle: with (a, b) an orthonormal pair

@@ -83,12 +83,8 @@ public:
             const double da = glm::length(nrm);
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
-            double hidden =
-                shadow.flats.empty() ? 0.0 : point_to_polygon_hidden(x, nrm / da, v.data(), 4, shadow.flats);
-            // The other balls' shadows never overlap the first's or each other's.
-            for (std::size_t k = 1; k < shadow.spheres.size(); ++k)
-                hidden += point_to_polygon_blocked(x, nrm / da, v.data(), 4, shadow.spheres[k]);
-            return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) - hidden);
+            return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) -
+                         hidden_past_first_ball(x, nrm / da, v, shadow));
         };
         // The receiver's front normal, times twice its area.
         const Vec3 v_normal = glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]);
@@ -101,11 +97,12 @@ public:
         const SliverBound sliver_bound(si, pi, v, v_normal, m_geo.patch(j).area);
         for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(v, ball);
         events.add_flats(v, shadow.flats);
+        if (shadow.disk) events.add_disk(v, *shadow.disk);
         auto geometric = [&](const Rect& r, double fine) {
             // A shadow's edge makes the integrand only once differentiable where it sweeps
             // across the patch; nested estimates on the whole patch can miss that, so shadowed
             // pairs start from quarters.
-            if (b || !shadow.flats.empty()) {
+            if (b || !shadow.flats.empty() || shadow.disk) {
                 if (const Cut c = quarter_of(Rect{pi.s0, pi.s1, pi.t0, pi.t1}, r); c.dir >= 0) return c;
             }
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
@@ -119,8 +116,9 @@ public:
             // where a shadow's edge crosses.
             // On a sphere, what the sliver can be worth is bounded (sliver_bound): the region
             // is then refined like any other, by its share of the error, and the search ends
-            // when the bounds are small enough instead of at the cap.
-            if (fine == 0.0 && !b && !events.empty() && events.crosses(si, r)) {
+            // when the bounds are small enough instead of at the cap. Nor under a disk's shadow,
+            // for the same reason.
+            if (fine == 0.0 && !b && !shadow.disk && !events.empty() && events.crosses(si, r)) {
                 const double ls = glm::length(si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
                                               si.point(r.s0, 0.5 * (r.t0 + r.t1))),
                              lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
@@ -150,6 +148,18 @@ public:
         };
         return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
                              geometric, suspect);
+    }
+
+    // What the occluders other than the first ball hide of the polygon v from x (the first
+    // ball's cap is taken out by point_to_polygon itself): flat quads, a disk, and further balls,
+    // whose shadows never overlap the first's or each other's.
+    static double hidden_past_first_ball(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v,
+                                         const PlanarReceiver& shadow) {
+        double hidden = shadow.flats.empty() ? 0.0 : point_to_polygon_hidden(x, n, v.data(), 4, shadow.flats);
+        if (shadow.disk) hidden += point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *shadow.disk).value;
+        for (std::size_t k = 1; k < shadow.spheres.size(); ++k)
+            hidden += point_to_polygon_blocked(x, n, v.data(), 4, shadow.spheres[k]);
+        return hidden;
     }
 
     // A region much larger than its distance to the receiver v may hide a near-singularity
@@ -330,11 +340,9 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
     }
     const auto plane = g.surface(pj.surface).plane();
     if (!plane) return std::nullopt;
-    if (pi.polygon) {
-        if (const auto d = one_disk_between(g, pi, *plane, blockers)) {
-            how.disk = d;
-            return how;
-        }
+    if (const auto d = one_disk_between(g, pi, *plane, blockers)) {
+        how.disk = d;
+        return how;
     }
     if (blockers.size() > kMaxShadowBalls) return std::nullopt;
     for (int k : blockers) {

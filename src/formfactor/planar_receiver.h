@@ -24,7 +24,7 @@ struct PlanarReceiver {
     std::vector<BoundingSphere> spheres;
     std::vector<std::array<Vec3, 4>> flats;  // each occluder's outline
     // One flat disk or annulus (both sides of a two-sided one are the same disk), wholly in
-    // front of both polygons' planes: its shadow is in closed form (formfactor/disk_shadow.h).
+    // front of both patches' planes: its shadow is in closed form (formfactor/disk_shadow.h).
     std::optional<FlatDisk> disk;
 };
 
@@ -41,8 +41,8 @@ bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const B
 // Whether F_ij can take this path: j must be planar and nothing may block the pair except balls
 // that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
 // most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
-// or annulus lying wholly in front of both patches (patch i a polygon too). `blockers` are the
-// pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
+// or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's). `blockers`
+// are the pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
 std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
                                               const std::vector<int>& blockers, bool visibility);
 
