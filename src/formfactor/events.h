@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "formfactor/column_shadow.h"
 #include "formfactor/convex_clip.h"
 #include "formfactor/cubature.h"
 #include "surfaces/surface.h"
@@ -83,6 +84,15 @@ public:
                 if (glm::dot(d.normal, v[k] - d.center) != 0.0)
                     m_rim_cones.push_back({v[k], d.center, d.normal, rho});
             }
+        }
+    }
+    // A round tube spanning the pair (formfactor/column_shadow.h): x on a plane through a
+    // vertex of v along the axis, tangent to the cylinder (the wedge's edge passing the vertex).
+    void add_column(const std::array<Vec3, 4>& v, const RoundTube& t) {
+        for (const Vec3& p : v) {
+            std::array<Vec3, 2> h;
+            if (column_wedge(p, t, &h))
+                for (const Vec3& m : h) m_planes.push_back({m, p});
         }
     }
     // The receiver's own plane (x passing behind it). `n` need not be unit.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "formfactor/column_shadow.h"
 #include "formfactor/disk_shadow.h"
 #include "formfactor/events.h"
 #include "formfactor/point_polygon.h"
@@ -72,7 +73,8 @@ public:
     // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const PlanarReceiver& shadow, double tol) const {
-        if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk) && m_geo.patch(i).polygon)
+        if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column) &&
+            m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
@@ -202,6 +204,8 @@ public:
             const Vec3 x = si.point(s, t);
             if (shadow.disk)
                 return da * point_to_polygon_hidden_by_disk(x, unit, vj.data(), 4, *shadow.disk).value;
+            if (shadow.column)
+                return da * point_to_polygon_hidden_by_column(x, unit, vj.data(), 4, *shadow.column);
             if (shadow.spheres.empty())
                 return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
             double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
@@ -224,6 +228,7 @@ public:
         for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(vj, ball);
         events.add_flats(vj, shadow.flats);
         if (shadow.disk) events.add_disk(vj, *shadow.disk);
+        if (shadow.column) events.add_column(vj, *shadow.column);
         auto geometric = [&](const Rect& r, double fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
@@ -273,6 +278,7 @@ public:
         }
         for (const auto& q : shadow.flats)
             if (convex_distance(hull, q, m_eps) <= m_eps) return true;
+        if (shadow.column && hull_meets_column(hull, *shadow.column)) return true;
         return shadow.disk && hull_meets_disk(hull, *shadow.disk);
     }
 
@@ -306,6 +312,24 @@ std::optional<FlatDisk> one_disk_between(const SceneGeometry& g, const Patch& pi
         !(disk_min_signed_distance(*disk, source->normal, source->offset) > margin))
         return std::nullopt;
     return disk;
+}
+
+// The one round tube that every blocker is (its two sides are one), when it spans the pair of
+// polygons i -> j (column_spans_pair).
+std::optional<RoundTube> one_column_between(const SceneGeometry& g, int i, int j,
+                                            const std::vector<int>& blockers) {
+    std::optional<RoundTube> tube;
+    for (int k : blockers) {
+        const auto t = g.surface(k).round_tube();
+        if (!t || (tube && !(t->base == tube->base && t->axis == tube->axis && t->length == tube->length &&
+                             t->radius == tube->radius)))
+            return std::nullopt;
+        tube = t;
+    }
+    if (!tube || !g.patch(i).polygon || !g.patch(j).polygon) return std::nullopt;
+    const std::array<Vec3, 4> a = g.front_polygon(i), b = g.front_polygon(j);
+    if (!column_spans_pair(a, b, *tube, 1e-9 * g.scale())) return std::nullopt;
+    return tube;
 }
 
 }  // namespace
@@ -342,6 +366,10 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
     if (!plane) return std::nullopt;
     if (const auto d = one_disk_between(g, pi, *plane, blockers)) {
         how.disk = d;
+        return how;
+    }
+    if (const auto t = one_column_between(g, i, j, blockers)) {
+        how.column = t;
         return how;
     }
     if (blockers.size() > kMaxShadowBalls) return std::nullopt;

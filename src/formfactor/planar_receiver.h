@@ -26,6 +26,9 @@ struct PlanarReceiver {
     // One flat disk or annulus (both sides of a two-sided one are the same disk), wholly in
     // front of both patches' planes: its shadow is in closed form (formfactor/disk_shadow.h).
     std::optional<FlatDisk> disk;
+    // One round tube spanning the pair (formfactor/column_shadow.h): a column from floor to
+    // ceiling between two walls; its shadow is a polygon.
+    std::optional<RoundTube> column;
 };
 
 // At most this many balls between a pair.

@@ -33,6 +33,11 @@ public:
                        std::vector<ContourPiece>* out) const override;
     // Cylinders only: the infinite cylinder.
     std::optional<ConvexSolid> convex_solid() const override;
+    // Whole cylinders only.
+    std::optional<RoundTube> round_tube() const override {
+        if (m_r0 != m_r1 || !m_angles.full()) return std::nullopt;
+        return RoundTube{m_base, m_frame.axis, m_length, m_r0};
+    }
     // Exact about the surface's own axis (the rectangle's larger radius).
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override;

@@ -45,6 +45,14 @@ struct FlatDisk {
     double radius = 0.0, inner_radius = 0.0;
 };
 
+// A whole round tube: radius `radius` about the segment from `base` along the unit vector
+// `axis` for `length`.
+struct RoundTube {
+    Vec3 base{0.0};
+    Vec3 axis{0.0, 0.0, 1.0};
+    double length = 0.0, radius = 0.0;
+};
+
 // A piece of a patch's boundary: the segment from a to b, or the arc
 // center + radius (cos u e1 + sin u e2) for u running from `from` to `to` (either order).
 struct ContourPiece {
@@ -137,6 +145,9 @@ public:
     // The whole surface as a flat disk or annulus (every angle), if it is one: its shadow seen
     // from a point is the cone over its rims (formfactor/disk_shadow.h).
     virtual std::optional<FlatDisk> flat_disk() const { return std::nullopt; }
+    // The whole surface as a round tube (every angle), if it is one: between its end planes
+    // it blocks what the infinite cylinder blocks (formfactor/column_shadow.h).
+    virtual std::optional<RoundTube> round_tube() const { return std::nullopt; }
     // The largest distance of a point of the parameter rectangle from the line through p along
     // the unit vector u: exact where the line is the surface's own axis and for polygon patches;
     // this default, from bound(), may be larger but never smaller.
