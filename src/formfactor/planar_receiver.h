@@ -3,10 +3,10 @@
 // point-to-polygon formula (Lambert's), minus what occluders hide. The occluders this path
 // accepts are whole balls whose shadows never overlap as seen from the source patch (each
 // hides a part of the polygon in closed form: formfactor/point_polygon.h), a few flat convex
-// quads (their shadows on the polygon are polygons) or one whole flat disk or annulus
-// (formfactor/disk_shadow.h). Between two polygons with occluders the
-// unblocked exchange is the contour integral and only the shadow is integrated over the source
-// patch. The outer integral is adaptive, cut along shadow edges and horizons
+// quads (their shadows on the polygon are polygons), one whole flat disk or annulus
+// (formfactor/disk_shadow.h) or one column spanning the pair (formfactor/column_shadow.h). Between two
+// polygons with occluders the unblocked exchange is the contour integral and only the shadow is integrated
+// over the source patch. The outer integral is adaptive, cut along shadow edges and horizons
 // (formfactor/events.h).
 #include <array>
 #include <optional>
@@ -44,7 +44,8 @@ bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const B
 // Whether F_ij can take this path: j must be planar and nothing may block the pair except balls
 // that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
 // most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
-// or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's). `blockers`
+// or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's),
+// or one round tube spanning two polygons. `blockers`
 // are the pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
 std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
                                               const std::vector<int>& blockers, bool visibility);
