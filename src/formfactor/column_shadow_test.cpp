@@ -10,6 +10,7 @@
 #include <cmath>
 #include <vector>
 
+#include "../tests/closed_forms.h"
 #include "formfactor/planar_receiver.h"
 #include "formfactor/point_polygon.h"
 #include "scene/scene.h"
@@ -17,17 +18,7 @@
 
 namespace radiosa {
 
-namespace {
-
-// Point on the axis of a 2a x 2b rectangle at distance h, facing it (Howell's catalogue B-3).
-double on_axis(double a, double b, double h) {
-    const double A = a / h, B = b / h;
-    return 2.0 / kPi *
-           (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B)));
-}
-
-}  // namespace
+using test::element_on_rectangle_axis;
 
 TEST(ColumnShadow, TheWedgeOnAWallIsACentredRectangle) {
     // From the origin facing +y, a wall at y = 5 (|x| <= 10, |z| <= 3, front facing -y), and a
@@ -38,7 +29,7 @@ TEST(ColumnShadow, TheWedgeOnAWallIsACentredRectangle) {
         const double r = 0.4, alpha = std::asin(r / D);
         const RoundTube column{Vec3(0, D, -10), Vec3(0, 0, 1), 20, r};
         EXPECT_NEAR(point_to_polygon_hidden_by_column(Vec3(0.0), Vec3(0, 1, 0), wall.data(), 4, column),
-                    on_axis(5 * std::tan(alpha), 3, 5), 1e-14)
+                    element_on_rectangle_axis(5 * std::tan(alpha), 3, 5), 1e-14)
             << D;
     }
     // A point inside the cylinder has no wedge; one beside the column sees it hide nothing of a

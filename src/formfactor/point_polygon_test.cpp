@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../tests/closed_forms.h"
 #include "util/gauss_legendre.h"
 
 namespace radiosa {
@@ -31,20 +32,14 @@ double cap_beyond_chord(double alpha, double h, double cut) {
     return sum;
 }
 
-// Point on the axis of a 2a x 2b rectangle at height h, facing it (Howell's catalogue B-3).
-double on_axis(double a, double b, double h) {
-    const double A = a / h, B = b / h;
-    return 2.0 / kPi *
-           (A / std::sqrt(1 + A * A) * std::atan(B / std::sqrt(1 + A * A)) +
-            B / std::sqrt(1 + B * B) * std::atan(A / std::sqrt(1 + B * B)));
-}
+using test::element_on_rectangle_axis;
 }  // namespace
 
 TEST(PointPolygon, OnAxisRectangleMatchesClosedForm) {
     // Rectangle in z = 1 facing down (counter-clockwise about -z).
     const Vec3 v[4] = {{-1, -0.5, 1}, {-1, 0.5, 1}, {1, 0.5, 1}, {1, -0.5, 1}};
     const Vec3 x(0, 0, 0), n(0, 0, 1);
-    EXPECT_NEAR(point_to_polygon(x, n, v, 4, nullptr), on_axis(1.0, 0.5, 1.0), 1e-14);
+    EXPECT_NEAR(point_to_polygon(x, n, v, 4, nullptr), element_on_rectangle_axis(1.0, 0.5, 1.0), 1e-14);
     // Facing away from x: nothing.
     const Vec3 r[4] = {v[3], v[2], v[1], v[0]};
     EXPECT_EQ(point_to_polygon(x, n, r, 4, nullptr), 0.0);
