@@ -177,8 +177,9 @@ struct Hierarchy {
     // The irradiance each patch receives from radiosities B per patch: pull (every node's
     // area-weighted mean and its slopes along u and v from its children's), gather over the
     // links (f, the receiver's and the source's slopes), push down (push_linear).
-    std::vector<double> irradiance(const std::vector<double>& B) const;
-    std::vector<Rgb> irradiance(const std::vector<Rgb>& B) const;
+    // T: double, Rgb, or Channels<3 K> for K = 2 to 8 right-hand sides at once.
+    template <class T>
+    std::vector<T> irradiance(const std::vector<T>& B) const;
 };
 
 // The patch-to-patch matrix the links stand for: column j is the irradiance (Hierarchy::

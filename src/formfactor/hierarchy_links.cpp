@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "formfactor/hierarchy.h"
+#include "util/channels.h"
 
 namespace radiosa {
 namespace {
@@ -50,10 +51,19 @@ std::vector<T> irradiance_of(const Hierarchy& h, const std::vector<T>& B) {
 
 }  // namespace
 
-std::vector<double> Hierarchy::irradiance(const std::vector<double>& B) const {
+template <class T>
+std::vector<T> Hierarchy::irradiance(const std::vector<T>& B) const {
     return irradiance_of(*this, B);
 }
-std::vector<Rgb> Hierarchy::irradiance(const std::vector<Rgb>& B) const { return irradiance_of(*this, B); }
+template std::vector<double> Hierarchy::irradiance(const std::vector<double>&) const;
+template std::vector<Rgb> Hierarchy::irradiance(const std::vector<Rgb>&) const;
+template std::vector<Channels<6>> Hierarchy::irradiance(const std::vector<Channels<6>>&) const;
+template std::vector<Channels<9>> Hierarchy::irradiance(const std::vector<Channels<9>>&) const;
+template std::vector<Channels<12>> Hierarchy::irradiance(const std::vector<Channels<12>>&) const;
+template std::vector<Channels<15>> Hierarchy::irradiance(const std::vector<Channels<15>>&) const;
+template std::vector<Channels<18>> Hierarchy::irradiance(const std::vector<Channels<18>>&) const;
+template std::vector<Channels<21>> Hierarchy::irradiance(const std::vector<Channels<21>>&) const;
+template std::vector<Channels<24>> Hierarchy::irradiance(const std::vector<Channels<24>>&) const;
 
 std::vector<double> Hierarchy::row_sums() const {
     return irradiance(std::vector<double>(leaf_of_patch.size(), 1.0));

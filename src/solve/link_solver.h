@@ -5,6 +5,7 @@
 // average of its patches'), pushes it down to the patches, sets B = E + rho H there, and pulls
 // the averages back up. O(links + nodes) per sweep, all three channels at once, and the same
 // answer for any thread count (every sum runs over a node's own links, in their sorted order).
+#include <cstddef>
 #include <vector>
 
 #include "formfactor/hierarchy.h"
@@ -34,6 +35,23 @@ struct LinkSolution {
 LinkSolution solve_links(const Hierarchy& h, const std::vector<Rgb>& rho, const std::vector<Rgb>& E,
                          const LinkSolveOptions& options = {}, const std::vector<Rgb>* start = nullptr);
 
+// At most this many emissions are solved together (the scheduler's batch, solve_links_together).
+inline constexpr std::size_t kMaxSolvedTogether = 8;
+
+// Several emissions with the same reflectances solved by one run of sweeps: every link is read
+// once per sweep for all of them, so K emissions cost far less than K solves (the gather reads
+// the links from memory; the arithmetic per link is small). Each emission's iteration is exactly
+// what solve_links would do for it alone (its own Chebyshev weights), except that the sweeps
+// stop when the last of them settles. `starts[k]`: emission k's warm start (absent or null: its
+// E). At most kMaxSolvedTogether emissions; the answers in their order.
+std::vector<LinkSolution> solve_links_together(const Hierarchy& h, const std::vector<Rgb>& rho,
+                                               const std::vector<std::vector<Rgb>>& E,
+                                               const LinkSolveOptions& options = {},
+                                               const std::vector<const std::vector<Rgb>*>& starts = {});
+// h.irradiance(*B[k]) for each k, by one gather over the links (at most kMaxSolvedTogether).
+std::vector<std::vector<Rgb>> irradiance_together(const Hierarchy& h,
+                                                  const std::vector<const std::vector<Rgb>*>& B);
+
 // Residual ||B - E - rho H|| / ||E|| and energy balance, as diagnose_solution does for a matrix.
 SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B);
 // The same from the irradiance H = h.irradiance(B) already at hand (for a combination of
@@ -48,5 +66,9 @@ SolveDiagnostics diagnose_links(const Hierarchy& h, const Materials& m, const st
 // tolerance, if looser): digits enough for an estimate. 0 for a dark channel.
 Rgb link_error_estimate(const Hierarchy& h, const Materials& m, const std::vector<Rgb>& B,
                         const LinkSolveOptions& options = {});
+// link_error_estimate for several radiosities with the same reflectances, their solves together.
+std::vector<Rgb> link_error_estimates(const Hierarchy& h, const std::vector<Rgb>& rho,
+                                      const std::vector<const std::vector<Rgb>*>& B,
+                                      const LinkSolveOptions& options = {});
 
 }  // namespace radiosa
