@@ -351,31 +351,28 @@ private:
             readings[k] = sensor_irradiance(sensors[k], m_solutions[fp.solution]);
     }
     // Over the hierarchy's links: sweeps of gather, push and pull, warm-started from the last
-    // answer (every new state is Iterated), then the diagnostics and the error estimate.
+    // answer, carrying along the emissions solved ahead with this one (Plan::solved_together),
+    // then the diagnostics and the error estimate.
     void solve_links_frame(FrameRecord& rec) {
         const FramePlan& fp = rec.plan;
         const Stopwatch clock;
         const Materials mat{m_plan.reflectances[fp.reflectance_set], m_plan.solutions[fp.solution].E};
-        if (fp.solve == SolveAction::Combined) {
+        if (fp.solve == SolveAction::Combined)
             m_solutions[fp.solution] = weighted(fp, m_solutions);
-        } else {
-            LinkSolution s = solve_links(*m_p.hierarchy, mat.rho, mat.E, {}, warm_start(fp));
-            m_solutions[fp.solution] = std::move(s.B);
-            rec.sweeps = s.sweeps;
-            m_r->channel_solves += 3;
-        }
+        else if (fp.solve == SolveAction::Iterated)
+            rec.sweeps = sweep_together(fp, mat.rho);
         m_last_of_set[fp.reflectance_set] = fp.solution;
         m_last_solved = fp.solution;
         rec.solve_s += clock.seconds();
         read_sensors(fp);
         // Diagnostics, not timed as solving.
+        if (fp.solve == SolveAction::Iterated) check_together(fp, mat.rho);
         // Irradiance is linear in radiosity too: a combination's is its terms', combined (kept
         // for the iterated solutions), so its diagnostics need no gather over the links.
-        std::vector<Rgb> H = fp.solve == SolveAction::Combined
-                                 ? weighted(fp, m_irradiance)
-                                 : m_p.hierarchy->irradiance(m_solutions[fp.solution]);
+        std::vector<Rgb> H = fp.solve == SolveAction::Combined ? weighted(fp, m_irradiance)
+                             : is_term(fp.solution)            ? m_irradiance[fp.solution]
+                                                               : std::move(m_irradiance[fp.solution]);
         const SolveDiagnostics d = diagnose_links(*m_p.hierarchy, mat, m_solutions[fp.solution], H);
-        if (is_term(fp.solution)) m_irradiance[fp.solution] = std::move(H);
         m_r->residual = std::max(m_r->residual, d.residual);
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
@@ -385,11 +382,37 @@ private:
             for (const Combination& t : m_plan.combinations[fp.solution])
                 e += glm::abs(t.weight) * m_estimates[static_cast<std::size_t>(t.solution)];
         else
-            e = link_error_estimate(*m_p.hierarchy, mat, m_solutions[fp.solution]);
+            e = m_estimates[fp.solution];
         m_estimates[fp.solution] = e;
         if (!m_r->radiosity_error_estimate) m_r->radiosity_error_estimate = Rgb(0.0);
         for (int c = 0; c < 3; ++c)
             (*m_r->radiosity_error_estimate)[c] = std::max((*m_r->radiosity_error_estimate)[c], e[c]);
+    }
+    // The sweeps of an Iterated frame: its own emission (warm-started) and those solved ahead with
+    // it (from their emissions), all in one run; their sweep count.
+    int sweep_together(const FramePlan& fp, const std::vector<Rgb>& rho) {
+        static_assert(kMaxSolvedAhead <= static_cast<int>(kMaxSolvedTogether), "a plan's group fits one run");
+        const std::vector<int>& together = m_plan.solved_together[static_cast<std::size_t>(fp.solution)];
+        std::vector<std::vector<Rgb>> E;
+        for (const int k : together) E.push_back(m_plan.solutions[static_cast<std::size_t>(k)].E);
+        std::vector<LinkSolution> s = solve_links_together(*m_p.hierarchy, rho, E, {}, {warm_start(fp)});
+        for (std::size_t j = 0; j < together.size(); ++j)
+            m_solutions[static_cast<std::size_t>(together[j])] = std::move(s[j].B);
+        m_r->channel_solves += 3 * static_cast<int>(together.size());
+        return s.front().sweeps;
+    }
+    // Each solution of that run's irradiance (for its residual) and radiosity error estimate,
+    // gathered and solved together too; read at each one's frame.
+    void check_together(const FramePlan& fp, const std::vector<Rgb>& rho) {
+        const std::vector<int>& together = m_plan.solved_together[static_cast<std::size_t>(fp.solution)];
+        std::vector<const std::vector<Rgb>*> B;
+        for (const int k : together) B.push_back(&m_solutions[static_cast<std::size_t>(k)]);
+        std::vector<std::vector<Rgb>> H = irradiance_together(*m_p.hierarchy, B);
+        const std::vector<Rgb> e = link_error_estimates(*m_p.hierarchy, rho, B);
+        for (std::size_t j = 0; j < together.size(); ++j) {
+            m_irradiance[static_cast<std::size_t>(together[j])] = std::move(H[j]);
+            m_estimates[static_cast<std::size_t>(together[j])] = e[j];
+        }
     }
     // Frame f (m_image) to the test hook, the outputs and the progress bar.
     void deliver(std::size_t f, EncoderThread& encoder, SequenceKept* kept) {
@@ -431,7 +454,8 @@ private:
     std::string m_last_warning;
     std::vector<std::vector<Rgb>> m_solutions;
     std::vector<Rgb> m_estimates;                // over links: each solution's radiosity error estimate
-    std::vector<std::vector<Rgb>> m_irradiance;  // over links: the irradiance of each term of a combination
+    std::vector<std::vector<Rgb>> m_irradiance;  // over links: of each term of a combination, and of each
+                                                 // solution solved ahead until its frame
     int m_last_solved = -1;
     std::vector<int> m_last_of_set;  // per reflectance set, the solution solved for it last (-1: none)
     std::unique_ptr<NodeRadiosity> m_nodes;

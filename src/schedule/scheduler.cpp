@@ -21,6 +21,8 @@ const char* solve_action_name(SolveAction a) {
             return "combined";
         case SolveAction::Reused:
             return "reused";
+        case SolveAction::Ahead:
+            return "ahead";
     }
     return "?";
 }
@@ -140,6 +142,42 @@ std::vector<Combination> combine_or_join(std::array<ChannelSpan, 3>& spans, cons
 
 }  // namespace
 
+int solved_ahead_limit(int patches) {
+    constexpr double kBudget = 256.0 * 1024 * 1024, kPerPatch = 512.0;
+    return std::clamp(1 + static_cast<int>(kBudget / (kPerPatch * std::max(patches, 1))), 1, kMaxSolvedAhead);
+}
+
+namespace {
+
+// With `combine`: each reflectance set's Iterated solutions, in order of first use, in groups
+// of up to `limit` solved by the first one's frame; the others' frames become Ahead.
+void solve_ahead(Plan* plan, bool combine, int limit) {
+    const int n = static_cast<int>(plan->solutions.size());
+    plan->solved_with.resize(static_cast<std::size_t>(n));
+    plan->solved_together.assign(static_cast<std::size_t>(n), {});
+    std::vector<int> open(plan->reflectances.size(), -1);  // per set, the group still taking members
+    for (int sol = 0; sol < n; ++sol) {
+        const auto k = static_cast<std::size_t>(sol);
+        plan->solved_with[k] = sol;
+        if (!plan->combinations[k].empty()) continue;  // Combined: its terms are solved
+        int& lead = open[static_cast<std::size_t>(plan->solution_set[k])];
+        if (combine && lead >= 0 &&
+            static_cast<int>(plan->solved_together[static_cast<std::size_t>(lead)].size()) < limit) {
+            plan->solved_together[static_cast<std::size_t>(lead)].push_back(sol);
+            plan->solved_with[k] = lead;
+            continue;
+        }
+        lead = sol;
+        plan->solved_together[k] = {sol};
+    }
+    for (FramePlan& fp : plan->frames)
+        if (fp.solve == SolveAction::Iterated &&
+            plan->solved_with[static_cast<std::size_t>(fp.solution)] != fp.solution)
+            fp.solve = SolveAction::Ahead;
+}
+
+}  // namespace
+
 Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeometry& geometry, bool iterative,
                    bool combine) {
     Plan plan;
@@ -199,6 +237,7 @@ Plan plan_sequence(const Sequence& seq, const Materials& base, const SceneGeomet
         fp.render = same_as_previous ? RenderAction::Copied : RenderAction::Rendered;
         plan.frames.push_back(fp);
     }
+    solve_ahead(&plan, iterative && combine, solved_ahead_limit(geometry.patch_count()));
     return plan;
 }
 

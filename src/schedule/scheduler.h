@@ -18,7 +18,10 @@ namespace radiosa {
 // already iterated with the same reflectance (a light ramping between two settings, lights
 // dimmed together): radiosity is linear in emission, so B = sum_k w_k B_k per channel, O(N)
 // per term and no sweep.
-enum class SolveAction { Factorised, Substituted, Iterated, Combined, Reused };
+// Ahead: over hierarchical links, an emission solved by the sweeps of an earlier Iterated frame
+// with the same reflectance, which carried it along as one more right-hand side (the sweeps read
+// every link once for all the emissions they carry): no sweep at its own frame.
+enum class SolveAction { Factorised, Substituted, Iterated, Combined, Reused, Ahead };
 enum class RenderAction { Rendered, Copied };
 const char* solve_action_name(SolveAction a);
 const char* render_action_name(RenderAction a);
@@ -54,6 +57,11 @@ struct Plan {
     // Per solution: its terms when it is Combined (each an Iterated solution of the same set,
     // first used earlier), else empty.
     std::vector<std::vector<Combination>> combinations;
+    // Per solution: the solution whose frame solves it (itself, or with `combine`, an earlier
+    // Iterated solution of the same reflectance set whose sweeps carry it along), and, for a
+    // solution solved at its own frame, every solution those sweeps solve (itself first).
+    std::vector<int> solved_with;
+    std::vector<std::vector<int>> solved_together;
     int factorisations() const { return static_cast<int>(reflectances.size()); }
     int substitutions() const { return static_cast<int>(solutions.size()); }
     bool moves() const { return geometries.size() > 1 || !is_identity(geometries[0]); }
@@ -67,11 +75,20 @@ struct Plan {
 // kMaxCombinationTerms emissions iterated before with the same reflectance, and the weights
 // amplify their solutions' errors at most kMaxCombinationGain times. (A dense iterative solve
 // keeps its residual target frame by frame instead: the weights would scale its residual.)
+// With `combine`, the emissions left to iterate with one reflectance set are solved together,
+// up to kMaxSolvedAhead at a time (fewer above about 75,000 patches, none above 524,288, so that
+// the extra right-hand sides hold at most 256 MiB), by the sweeps of the first frame that needs
+// one of them: the others' frames are Ahead.
 Plan plan_sequence(const Sequence& sequence, const Materials& base, const SceneGeometry& geometry,
                    bool iterative = false, bool combine = false);
 
 inline constexpr int kMaxCombinationTerms = 8;
 inline constexpr double kMaxCombinationGain = 1e4;
+inline constexpr int kMaxSolvedAhead = 8;
+// How many emissions one run of sweeps may carry in a scene of `patches`: each holds about 512
+// bytes per patch while the sweeps run (its radiosities, changes and emission side by side, and
+// its values at the hierarchy's nodes, about two per patch); the extra ones within 256 MiB.
+int solved_ahead_limit(int patches);
 
 bool same_camera(const CameraDesc& a, const CameraDesc& b);
 

@@ -334,14 +334,20 @@ TEST(Scheduler, LightOnlySequenceFactorisesOnceAndSubstitutes) {
 // Over links, a light's emission that is a combination of emissions already iterated for the
 // same reflectance is `combined`: the same ramps as above, then a colour change. Frame 2 (t =
 // 0.5) adds a direction, and each later ramp frame is a combination of frames 0 and 2 whose
-// weights give its emission to rounding, channel by channel. A colour change starts a new
-// set: its first emission is solved.
+// weights give its emission to rounding, channel by channel. Frame 2's emission is solved
+// ahead, by frame 0's sweeps (`ahead`). A colour change starts a new set: its first emission
+// is solved at its own frame.
 TEST(Scheduler, SolvesOverLinksCombineEmissionsAlreadySolved) {
     const std::string body =
         std::string(kLightRamps) + "  - {time_s: 1.5, surface: sphere, reflectance: [1, 0.5, 0.25]}\n";
     const Planned p = plan_of(body, true, true);
-    EXPECT_EQ(actions(p.plan), "ir rc ir cr cr rc ir rc ");
+    EXPECT_EQ(actions(p.plan), "ir rc ar cr cr rc ir rc ");
     ASSERT_EQ(p.plan.combinations.size(), p.plan.solutions.size());
+    const int second = p.plan.frames[2].solution, colour = p.plan.frames[6].solution;
+    EXPECT_EQ(p.plan.solved_with[static_cast<std::size_t>(second)], 0);
+    EXPECT_EQ(p.plan.solved_together[0], (std::vector<int>{0, second}));
+    EXPECT_EQ(p.plan.solved_with[static_cast<std::size_t>(colour)], colour);
+    EXPECT_EQ(p.plan.solved_together[static_cast<std::size_t>(colour)], std::vector<int>{colour});
     int combined = 0;
     for (std::size_t k = 0; k < p.plan.solutions.size(); ++k) {
         const auto& terms = p.plan.combinations[k];
@@ -373,6 +379,38 @@ TEST(Scheduler, SolvesOverLinksCombineEmissionsAlreadySolved) {
     EXPECT_EQ(actions(plan_of(body, true).plan), "ir rc ir ir ir rc ir rc ");
 }
 
+TEST(Scheduler, NineNewLightsAreSolvedByTwoRunsOfSweeps) {
+    // Each second a patch of face6 lights up, the one before it dark again: no frame's emission
+    // is a combination of earlier ones, so each must be iterated: frames 0 to 7 by frame 0's
+    // sweeps (kMaxSolvedAhead), frames 8 and 9 by frame 8's.
+    std::string body =
+        "fps: 1\nduration_s: 10\ncamera:\n  keys:\n    - {time_s: 0, distance: 6, theta_deg: 0, "
+        "phi_deg: 90}\nevents:\n";
+    for (int k = 0; k < 9; ++k)
+        body += "  - {time_s: " + std::to_string(k + 1) + ", surface: face6, patch: [" +
+                std::to_string(k % 3) + ", " + std::to_string(k / 3) + "], emission: [" +
+                std::to_string(k + 1) + ", 1, 1]}\n";
+    for (int k = 0; k < 8; ++k)
+        body += "  - {time_s: " + std::to_string(k + 2) + ", surface: face6, patch: [" +
+                std::to_string(k % 3) + ", " + std::to_string(k / 3) + "], emission: [0, 0, 0]}\n";
+    const Planned p = plan_of(body, true, true);
+    EXPECT_EQ(actions(p.plan), "ir ar ar ar ar ar ar ar ir ar ");
+    EXPECT_EQ(p.plan.solved_together[0], (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7}));
+    EXPECT_EQ(p.plan.solved_together[8], (std::vector<int>{8, 9}));
+    EXPECT_EQ(p.plan.solved_with[9], 8);
+}
+
+TEST(Scheduler, EmissionsSolvedAheadHoldAtMost256MiBMore) {
+    EXPECT_EQ(solved_ahead_limit(86), kMaxSolvedAhead);
+    EXPECT_EQ(solved_ahead_limit(20198), kMaxSolvedAhead);
+    EXPECT_EQ(solved_ahead_limit(74898), 8);  // 7 more x 512 bytes x 74,898 patches < 256 MiB
+    EXPECT_EQ(solved_ahead_limit(74899), 7);
+    EXPECT_EQ(solved_ahead_limit(101070), 6);
+    EXPECT_EQ(solved_ahead_limit(524288), 2);
+    EXPECT_EQ(solved_ahead_limit(524289), 1);  // none ahead
+    EXPECT_EQ(solved_ahead_limit(1000000), 1);
+}
+
 TEST(Scheduler, ColourChangeRefactorises) {
     const Planned p = plan_of(R"(fps: 1
 duration_s: 4
@@ -400,8 +438,9 @@ TEST(Scheduler, PaperSequenceABC) {
     EXPECT_NEAR(plan.frames[2].camera.eye.x, 6.0, 1e-12);
 }
 
-// The shipped relighting of the 20,000-patch room plans as its header says: over links, two
-// iterated frames (the first, and face 6's first lit one), every other frame combined.
+// The shipped relighting of the 20,000-patch room plans as its header says: over links, one
+// iterated frame (the first), whose sweeps solve face 6's first lit frame ahead; every other
+// frame combined.
 TEST(Scheduler, ShippedRelightingOfThe20kRoomCombines) {
     const std::string path = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-20k-relight.yaml";
     Planned p{load_scene(sequence_scene_path(path)), nullptr, {}};
@@ -409,7 +448,7 @@ TEST(Scheduler, ShippedRelightingOfThe20kRoomCombines) {
     p.geo = std::make_unique<SceneGeometry>(p.scene);
     const Sequence s = load_sequence(path, &p.scene);
     const Plan plan = plan_sequence(s, patch_materials(p.scene), *p.geo, true, true);
-    EXPECT_EQ(actions(plan), "ir cr cr cr cr ir cr cr ");
+    EXPECT_EQ(actions(plan), "ir cr cr cr cr ar cr cr ");
 }
 
 }  // namespace radiosa
