@@ -4,6 +4,7 @@
 // one emission's three channels. Its operators are Rgb's, so code templated on the value type
 // (the gather, push and pull over a hierarchy, the link solve) takes either.
 #include <array>
+#include <cstddef>
 
 namespace radiosa {
 
