@@ -438,9 +438,9 @@ TEST(Scheduler, PaperSequenceABC) {
     EXPECT_NEAR(plan.frames[2].camera.eye.x, 6.0, 1e-12);
 }
 
-// The shipped relighting of the 20,000-patch room plans as its header says: over links, one
-// iterated frame (the first), whose sweeps solve face 6's first lit frame ahead; every other
-// frame combined.
+// The shipped relightings of the 20,000-patch room plan as their headers say: over links, one
+// iterated frame (the first), whose sweeps solve face 6's first lit frame ahead, every other
+// frame combined; and with a new light each second, every later frame solved ahead.
 TEST(Scheduler, ShippedRelightingOfThe20kRoomCombines) {
     const std::string path = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-20k-relight.yaml";
     Planned p{load_scene(sequence_scene_path(path)), nullptr, {}};
@@ -449,6 +449,12 @@ TEST(Scheduler, ShippedRelightingOfThe20kRoomCombines) {
     const Sequence s = load_sequence(path, &p.scene);
     const Plan plan = plan_sequence(s, patch_materials(p.scene), *p.geo, true, true);
     EXPECT_EQ(actions(plan), "ir cr cr cr cr ar cr cr ");
+    // A new light each second: frame 0's sweeps solve all five emissions.
+    const std::string lights = RADIOSA_SOURCE_DIR "/cameras/baranoski1991-20k-new-lights.yaml";
+    const Plan more =
+        plan_sequence(load_sequence(lights, &p.scene), patch_materials(p.scene), *p.geo, true, true);
+    EXPECT_EQ(actions(more), "ir ar ar ar ar ");
+    EXPECT_EQ(more.solved_together[0], (std::vector<int>{0, 1, 2, 3, 4}));
 }
 
 }  // namespace radiosa
