@@ -377,13 +377,12 @@ private:
         if (m_p.scene.closed)
             m_r->energy_balance_error = std::max(m_r->energy_balance_error, d.energy_balance_error);
         // A combination's error is at most its terms' errors times their weights: no extra solve.
-        Rgb e(0.0);
+        // An iterated or ahead solution's estimate came from check_together.
         if (fp.solve == SolveAction::Combined)
             for (const Combination& t : m_plan.combinations[fp.solution])
-                e += glm::abs(t.weight) * m_estimates[static_cast<std::size_t>(t.solution)];
-        else
-            e = m_estimates[fp.solution];
-        m_estimates[fp.solution] = e;
+                m_estimates[fp.solution] +=
+                    glm::abs(t.weight) * m_estimates[static_cast<std::size_t>(t.solution)];
+        const Rgb e = m_estimates[fp.solution];
         if (!m_r->radiosity_error_estimate) m_r->radiosity_error_estimate = Rgb(0.0);
         for (int c = 0; c < 3; ++c)
             (*m_r->radiosity_error_estimate)[c] = std::max((*m_r->radiosity_error_estimate)[c], e[c]);
