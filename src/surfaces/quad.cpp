@@ -19,6 +19,12 @@ QuadSurface::QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const V
     m_plane = Plane{n, glm::dot(n, 0.25 * (c0 + c1 + c2 + c3))};
     m_u = glm::normalize(m_e);
     m_v = glm::cross(n, m_u);
+    m_ex = glm::dot(m_e, m_u), m_ey = glm::dot(m_e, m_v);
+    m_fx = glm::dot(m_f, m_u), m_fy = glm::dot(m_f, m_v);
+    m_gx = glm::dot(m_g, m_u), m_gy = glm::dot(m_g, m_v);
+    m_k2 = cross2(m_gx, m_gy, m_fx, m_fy);
+    m_exf = cross2(m_ex, m_ey, m_fx, m_fy);
+    m_scale = std::abs(m_exf);
 }
 
 Vec3 QuadSurface::point(double s, double t) const { return m_p0 + s * m_e + t * m_f + s * t * m_g; }
@@ -40,13 +46,11 @@ std::optional<std::pair<double, double>> QuadSurface::invert(const Vec3& x) cons
     // k2 t^2 + k1 t + k0 = 0 with k2 = g x f, k1 = q x g + e x f, k0 = q x e.
     const Vec3 q3 = x - m_p0;
     const double qx = glm::dot(q3, m_u), qy = glm::dot(q3, m_v);
-    const double ex = glm::dot(m_e, m_u), ey = glm::dot(m_e, m_v);
-    const double fx = glm::dot(m_f, m_u), fy = glm::dot(m_f, m_v);
-    const double gx = glm::dot(m_g, m_u), gy = glm::dot(m_g, m_v);
-    const double k2 = cross2(gx, gy, fx, fy);
-    const double k1 = cross2(qx, qy, gx, gy) + cross2(ex, ey, fx, fy);
+    const double ex = m_ex, ey = m_ey, fx = m_fx, fy = m_fy, gx = m_gx, gy = m_gy;
+    const double k2 = m_k2;
+    const double k1 = cross2(qx, qy, gx, gy) + m_exf;
     const double k0 = cross2(qx, qy, ex, ey);
-    const double scale = std::abs(cross2(ex, ey, fx, fy));
+    const double scale = m_scale;
     constexpr double kEdge = 1e-12;  // accept points on the boundary despite rounding
 
     auto finish = [&](double t) -> std::optional<std::pair<double, double>> {
