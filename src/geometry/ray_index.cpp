@@ -7,9 +7,12 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
+
+#include "surfaces/sphere_hit.h"
 
 namespace radiosa {
 
@@ -55,6 +58,10 @@ float float_down(double x) {
 struct RayIndex::Impl {
     std::vector<const Surface*> surfaces;
     std::vector<std::array<double, 6>> boxes;  // lo x, y, z, hi x, y, z, relative to `center`
+    // Whole spheres, tested inline by the test their type uses (surfaces/sphere_hit.h): the
+    // commonest candidates of a crowded scene, without a virtual call each. Radius 0: another
+    // surface.
+    std::vector<Surface::Ball> balls;
     Vec3 center{0.0};
     double radius = 0.0;  // of a ball holding every box
     RTCScene scene = nullptr;
@@ -77,7 +84,7 @@ struct RayIndex::Impl {
     struct Query {
         RTCIntersectContext rtc;
         const Impl* index;
-        Lane lanes[kPacket];
+        Lane* lanes;  // the packet's, lanes[id]
     };
 
     static void bounds(const RTCBoundsFunctionArguments* args) {
@@ -98,53 +105,138 @@ struct RayIndex::Impl {
         RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
         RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
         const int k = static_cast<int>(args->primID);
+        // Lane i's ray meets surface k at d (below its t_max): the nearest so far.
+        const auto take = [&](unsigned i, Lane& l, double d) {
+            if (d == l.best && l.surface < k) return;
+            l.best = d;
+            l.surface = k;
+            l.limit = l.next;
+            l.next = next_up(d);  // d is finite: it is below l.next
+            // Generous in float: traversal rounding must not prune a box holding a nearer hit.
+            RTCRayN_tfar(rays, n, i) = float_up((d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
+            RTCHitN_geomID(hits, n, i) = args->geomID;
+            RTCHitN_primID(hits, n, i) = args->primID;
+        };
+        const Surface::Ball& ball = q->index->balls[static_cast<std::size_t>(k)];
+        if (ball.radius > 0.0) {
+            // A whole sphere: its valid lanes two at a time (surfaces/sphere_hit.h).
+            unsigned lane[kPacket];
+            unsigned m = 0;
+            for (unsigned i = 0; i < n; ++i)
+                if (args->valid[i]) lane[m++] = i;
+            unsigned j = 0;
+#if defined(__x86_64__)
+            static const bool avx = __builtin_cpu_supports("avx");
+            for (; avx && j + 2 < m; j += 4) {  // three or four lanes left: four at once
+                const Ray* four[4];
+                double limit[4], d[4];
+                unsigned ids[4];
+                for (unsigned r = 0; r < 4; ++r) {
+                    ids[r] = lane[j + r < m ? j + r : j];
+                    const Lane& l = q->lanes[RTCRayN_id(rays, n, ids[r])];
+                    four[r] = l.ray;
+                    limit[r] = l.next;
+                }
+                sphere_front_distance4(four, ball.center, ball.radius, ball.orientation, limit, d);
+                for (unsigned r = 0; r < 4 && j + r < m; ++r) {
+                    Lane& l = q->lanes[RTCRayN_id(rays, n, ids[r])];
+                    if (d[r] < l.next) take(ids[r], l, d[r]);
+                }
+            }
+#endif
+            if (m == 1) {  // one ray (rtcIntersect1): no lanes to share
+                Lane& l = q->lanes[RTCRayN_id(rays, n, lane[0])];
+                const double d =
+                    sphere_front_distance(*l.ray, ball.center, ball.radius, ball.orientation, 0.0, l.next);
+                if (d < l.next) take(lane[0], l, d);
+                return;
+            }
+            for (; j < m; j += 2) {
+                const unsigned i0 = lane[j], i1 = lane[j + 1 < m ? j + 1 : j];
+                Lane& l0 = q->lanes[RTCRayN_id(rays, n, i0)];
+                Lane& l1 = q->lanes[RTCRayN_id(rays, n, i1)];
+                double d[2];
+                sphere_front_distance2(*l0.ray, *l1.ray, ball.center, ball.radius, ball.orientation, l0.next,
+                                       l1.next, d);
+                if (d[0] < l0.next) take(i0, l0, d[0]);
+                if (i1 != i0 && d[1] < l1.next) take(i1, l1, d[1]);
+            }
+            return;
+        }
         const Surface& surface = *q->index->surfaces[static_cast<std::size_t>(k)];
         for (unsigned i = 0; i < n; ++i) {
             if (!args->valid[i]) continue;
             Lane& l = q->lanes[RTCRayN_id(rays, n, i)];
-            const auto d = surface.front_distance(*l.ray, 0.0, l.next);
-            if (!d || (*d == l.best && l.surface < k)) continue;
-            l.best = *d;
-            l.surface = k;
-            l.limit = l.next;
-            l.next = next_up(*d);  // *d is finite: it is below l.next
-            // Generous in float: traversal rounding must not prune a box holding a nearer hit.
-            RTCRayN_tfar(rays, n, i) = float_up((*d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
-            RTCHitN_geomID(hits, n, i) = args->geomID;
-            RTCHitN_primID(hits, n, i) = args->primID;
+            if (const auto d = surface.front_distance(*l.ray, 0.0, l.next)) take(i, l, *d);
         }
     }
 
-    // The nearest surface's hit into *out (surface -1: none), its parameters found by one more
-    // call of that surface, which Surface promises gives the distance front_distance gave, bit
-    // for bit; should a type ever break that, the loop decides.
-    void finish(const Lane& l, Found* out) const {
-        out->surface = -1;
-        if (l.surface < 0) return;
-        if (const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
-                                                                                    HitSide::FrontOnly);
-            h && h->dist == l.best) {
-            out->surface = l.surface;
-            out->hit = *h;
+    // The nearest surfaces' hits of n lanes into out[i] (surface -1: none). Each surface finds
+    // the parameters of its lanes' hits together (Surface::front_hits: a whole sphere's angles
+    // in SIMD lanes), at the distances its front_distance gave, bit for bit, which Surface
+    // promises; should a type ever break that, the loop decides. One ray alone takes the
+    // surface's intersect(), as the loop does.
+    void finish(const Lane* lanes, std::size_t n, Found* out) const {
+        if (n == 1) {
+            const Lane& l = lanes[0];
+            out->surface = -1;
+            if (l.surface < 0) return;
+            if (const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
+                                                                                        HitSide::FrontOnly);
+                h && h->dist == l.best) {
+                out->surface = l.surface;
+                out->hit = *h;
+            } else {
+                by_loop(*l.ray, out);
+            }
             return;
         }
+        constexpr std::size_t kMax = 64;
+        const Ray* rays[kMax];
+        double dist[kMax], limit[kMax];
+        std::optional<SurfaceHit> hits[kMax];
+        // Runs of neighbouring lanes on the same surface (a ball's pixels in a row) go together.
+        for (std::size_t i = 0; i < n;) {
+            const int k = lanes[i].surface;
+            std::size_t j = i;
+            for (; j < n && j - i < kMax && lanes[j].surface == k; ++j) {
+                rays[j - i] = lanes[j].ray;
+                dist[j - i] = lanes[j].best;
+                limit[j - i] = lanes[j].limit;
+            }
+            if (k >= 0) surfaces[static_cast<std::size_t>(k)]->front_hits(j - i, rays, dist, limit, hits);
+            for (std::size_t r = i; r < j; ++r) {
+                Found& f = out[r];
+                f.surface = -1;
+                if (k < 0) continue;
+                if (const auto& h = hits[r - i]; h && h->dist == lanes[r].best) {
+                    f.surface = k;
+                    f.hit = *h;
+                } else {
+                    by_loop(*lanes[r].ray, &f);
+                }
+            }
+            i = j;
+        }
+    }
+    void by_loop(const Ray& ray, Found* out) const {
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < surfaces.size(); ++k)
-            if (const auto g = surfaces[k]->intersect(*l.ray, 0.0, best, HitSide::FrontOnly)) {
+            if (const auto g = surfaces[k]->intersect(ray, 0.0, best, HitSide::FrontOnly)) {
                 best = g->dist;
                 out->surface = static_cast<int>(k);
                 out->hit = *g;
             }
     }
 
-    // Sets up lane `id` of q for `ray`, clipped to the ball holding every box (Embree then
-    // starts inside the scene); false when the ray misses that ball.
-    bool start(const Ray& ray, unsigned id, Query* q, Vec3* org) const {
+    // Sets up lane l for `ray`, clipped to the ball holding every box (Embree then starts
+    // inside the scene); false when the ray misses that ball (l.surface then -1).
+    bool start(const Ray& ray, Lane& l, Vec3* org) const {
+        l.surface = -1;
         const Vec3 oc = ray.origin - center;
         const double a = glm::dot(ray.dir, ray.dir), b = glm::dot(oc, ray.dir),
                      c = glm::dot(oc, oc) - radius * radius;
         if (!(a > 0.0)) return false;
-        Lane& l = q->lanes[id];
         l.shift = 0.0;  // a ray from inside the ball (a camera in the scene) starts where it is
         if (!(c < 0.0)) {
             const double disc = b * b - a * c;
@@ -156,7 +248,6 @@ struct RayIndex::Impl {
         }
         l.ray = &ray;
         l.best = l.next = std::numeric_limits<double>::infinity();
-        l.surface = -1;
         *org = oc + l.shift * ray.dir;
         return true;
     }
@@ -177,6 +268,9 @@ RayIndex::RayIndex(const std::vector<const Surface*>& surfaces) : m(std::make_un
             lo[a] = std::min(lo[a], l);
             hi[a] = std::max(hi[a], h);
         }
+    m->balls.resize(surfaces.size());
+    for (std::size_t k = 0; k < surfaces.size(); ++k)
+        if (const auto b = surfaces[k]->front_distance_of_ball()) m->balls[k] = *b;
     m->center = 0.5 * (lo + hi);
     m->radius = 0.5 * glm::length(hi - lo);
     // Padding covers float rounding of the boxes, the ray's start and its direction.
@@ -211,9 +305,11 @@ RayIndex::~RayIndex() {
 }
 
 std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
+    Impl::Lane lane;
     Impl::Query q;
+    q.lanes = &lane;
     Vec3 org;
-    if (!m->start(ray, 0, &q, &org)) return std::nullopt;
+    if (!m->start(ray, lane, &org)) return std::nullopt;
     rtcInitIntersectContext(&q.rtc);
     q.index = m.get();
     RTCRayHit rh;
@@ -234,7 +330,7 @@ std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(m->scene, &q.rtc, &rh);
     Found f;
-    m->finish(q.lanes[0], &f);
+    m->finish(&lane, 1, &f);
     if (f.surface < 0) return std::nullopt;
     return f;
 }
@@ -242,41 +338,44 @@ std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
 void RayIndex::nearest_front(const Ray* rays, std::size_t count, Found* found) const {
     constexpr int kP = Impl::kPacket;
     static_assert(kP == 8, "the packet is traced with rtcIntersect8");
+    // Up to eight packets are traced, then their nearest surfaces find their hits together.
+    constexpr std::size_t kBlock = 8 * kP;
+    Impl::Lane lanes[kBlock];
     Impl::Query q;
     q.index = m.get();
-    for (std::size_t first = 0; first < count; first += kP) {
-        const int n = static_cast<int>(std::min<std::size_t>(kP, count - first));
-        alignas(32) int valid[kP];
-        alignas(32) RTCRayHit8 rh;
-        for (int i = 0; i < kP; ++i) {
-            Vec3 org(0.0);
-            valid[i] = i < n && m->start(rays[first + i], static_cast<unsigned>(i), &q, &org) ? -1 : 0;
-            const Vec3 dir = i < n ? rays[first + i].dir : Vec3(1.0, 0.0, 0.0);
-            rh.ray.org_x[i] = static_cast<float>(org.x);
-            rh.ray.org_y[i] = static_cast<float>(org.y);
-            rh.ray.org_z[i] = static_cast<float>(org.z);
-            rh.ray.dir_x[i] = static_cast<float>(dir.x);
-            rh.ray.dir_y[i] = static_cast<float>(dir.y);
-            rh.ray.dir_z[i] = static_cast<float>(dir.z);
-            rh.ray.tnear[i] = 0.0f;
-            rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
-            rh.ray.time[i] = 0.0f;
-            rh.ray.mask[i] = 0xFFFFFFFFu;
-            rh.ray.id[i] = static_cast<unsigned>(i);
-            rh.ray.flags[i] = 0;
-            rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    for (std::size_t block = 0; block < count; block += kBlock) {
+        const std::size_t in_block = std::min(kBlock, count - block);
+        for (std::size_t first = 0; first < in_block; first += kP) {
+            const int n = static_cast<int>(std::min<std::size_t>(kP, in_block - first));
+            alignas(32) int valid[kP];
+            alignas(32) RTCRayHit8 rh;
+            q.lanes = lanes + first;
+            for (int i = 0; i < kP; ++i) {
+                const Ray* ray = i < n ? &rays[block + first + i] : nullptr;
+                Vec3 org(0.0);
+                valid[i] = ray && m->start(*ray, lanes[first + i], &org) ? -1 : 0;
+                const Vec3 dir = ray ? ray->dir : Vec3(1.0, 0.0, 0.0);
+                rh.ray.org_x[i] = static_cast<float>(org.x);
+                rh.ray.org_y[i] = static_cast<float>(org.y);
+                rh.ray.org_z[i] = static_cast<float>(org.z);
+                rh.ray.dir_x[i] = static_cast<float>(dir.x);
+                rh.ray.dir_y[i] = static_cast<float>(dir.y);
+                rh.ray.dir_z[i] = static_cast<float>(dir.z);
+                rh.ray.tnear[i] = 0.0f;
+                rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+                rh.ray.time[i] = 0.0f;
+                rh.ray.mask[i] = 0xFFFFFFFFu;
+                rh.ray.id[i] = static_cast<unsigned>(i);
+                rh.ray.flags[i] = 0;
+                rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcInitIntersectContext(&q.rtc);
+            q.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            rtcIntersect8(valid, m->scene, &q.rtc, &rh);
         }
-        rtcInitIntersectContext(&q.rtc);
-        q.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        rtcIntersect8(valid, m->scene, &q.rtc, &rh);
-        for (int i = 0; i < n; ++i) {
-            if (valid[i])
-                m->finish(q.lanes[i], &found[first + i]);
-            else
-                found[first + i].surface = -1;
-        }
+        m->finish(lanes, in_block, found + block);
     }
 }
 

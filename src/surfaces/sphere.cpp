@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "surfaces/registry.h"
 #include "surfaces/revolution.h"
+#include "surfaces/sphere_hit.h"
+#include "util/angles.h"
 
 namespace radiosa {
 
@@ -29,32 +32,6 @@ void SphereSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
     *dPdt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
 }
 
-namespace {
-
-// The roots of |o + t d - c|^2 = R^2 in increasing order, solved in the cancellation-free form;
-// false when the line misses.
-bool sphere_roots(const Ray& ray, const Vec3& center, double radius, double roots[2]) {
-    const Vec3 oc = ray.origin - center;
-    const double a = glm::dot(ray.dir, ray.dir);
-    const double b = glm::dot(oc, ray.dir);
-    // Discriminant via the perpendicular distance (Hearn & Baker / Ray Tracing Gems ch. 7),
-    // first: most lines that reach a ball's bounding box still miss the ball.
-    const Vec3 perp = oc - (b / a) * ray.dir;
-    const double disc = a * (radius * radius - glm::dot(perp, perp));
-    if (disc < 0.0) return false;
-    // c = |oc|^2 - R^2 computed as (|oc| - R)(|oc| + R) keeps precision near the surface.
-    const double loc = glm::length(oc);
-    const double c = (loc - radius) * (loc + radius);
-    const double q = -(b + std::copysign(std::sqrt(disc), b));
-    roots[0] = c / q;
-    roots[1] = q / a;
-    if (q == 0.0) roots[0] = roots[1] = 0.0;
-    if (roots[0] > roots[1]) std::swap(roots[0], roots[1]);
-    return true;
-}
-
-}  // namespace
-
 std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min, double t_max,
                                                    HitSide side) const {
     double roots[2];
@@ -66,15 +43,43 @@ std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min,
         const bool front = m_orientation * glm::dot(out, ray.dir) < 0.0;
         if (side == HitSide::FrontOnly && !front) continue;
         const Vec3 u = out / m_radius;
-        const auto s = m_angles.param(std::atan2(u.y, u.x));
-        if (!s) continue;
-        const double th = std::acos(std::clamp(u.z, -1.0, 1.0));
-        const double t = (m_bottom - th) / (m_bottom - m_top);
-        constexpr double kEdge = 1e-12;
-        if (t < -kEdge || t > 1.0 + kEdge) continue;
-        return SurfaceHit{dist, *s, std::clamp(t, 0.0, 1.0), front};
+        if (auto h = hit_at_angles(dist, std::atan2(u.y, u.x), std::acos(std::clamp(u.z, -1.0, 1.0)), front))
+            return h;
     }
     return std::nullopt;
+}
+
+std::optional<SurfaceHit> SphereSurface::hit_at_angles(double dist, double phi, double th, bool front) const {
+    const auto s = m_angles.param(phi);
+    if (!s) return std::nullopt;
+    const double t = (m_bottom - th) / (m_bottom - m_top);
+    constexpr double kEdge = 1e-12;
+    if (t < -kEdge || t > 1.0 + kEdge) return std::nullopt;
+    return SurfaceHit{dist, *s, std::clamp(t, 0.0, 1.0), front};
+}
+
+void SphereSurface::front_hits(std::size_t n, const Ray* const* rays, const double* dist, const double* limit,
+                               std::optional<SurfaceHit>* out) const {
+    // A whole sphere: intersect()'s hit is its first front root in range, at dist, whose
+    // angles are found here for many rays at once.
+    if (!whole_sphere()) return Surface::front_hits(n, rays, dist, limit, out);
+    constexpr std::size_t kBatch = 64;
+    double x[kBatch], y[kBatch], z[kBatch], phi[kBatch], th[kBatch];
+    bool front[kBatch];
+    for (std::size_t first = 0; first < n; first += kBatch) {
+        const std::size_t m = std::min(kBatch, n - first);
+        for (std::size_t i = 0; i < m; ++i) {
+            const Ray& ray = *rays[first + i];
+            const Vec3 o = ray.at(dist[first + i]) - m_center;
+            front[i] = m_orientation * glm::dot(o, ray.dir) < 0.0;
+            x[i] = o.x;  // the azimuth needs no division by the radius
+            y[i] = o.y;
+            z[i] = o.z / m_radius;
+        }
+        atan2_acos(m, y, x, z, phi, th);
+        for (std::size_t i = 0; i < m; ++i)
+            out[first + i] = front[i] ? hit_at_angles(dist[first + i], phi[i], th[i], true) : std::nullopt;
+    }
 }
 
 bool SphereSurface::blocks(const Ray& ray, double t_min, double t_max) const {
@@ -90,12 +95,8 @@ std::optional<double> SphereSurface::front_distance(const Ray& ray, double t_min
     // A whole sphere: every point has parameters (as in blocks()), so intersect()'s first root
     // in range on the front side is its hit; no angles needed.
     if (!whole_sphere()) return Surface::front_distance(ray, t_min, t_max);
-    double roots[2];
-    if (!sphere_roots(ray, m_center, m_radius, roots)) return std::nullopt;
-    for (double dist : roots)
-        if (dist > t_min && dist < t_max && m_orientation * glm::dot(ray.at(dist) - m_center, ray.dir) < 0.0)
-            return dist;
-    return std::nullopt;
+    const double d = sphere_front_distance(ray, m_center, m_radius, m_orientation, t_min, t_max);
+    return d < std::numeric_limits<double>::infinity() ? std::optional<double>(d) : std::nullopt;
 }
 
 double SphereSurface::area(double s0, double s1, double t0, double t1) const {

@@ -18,6 +18,12 @@ public:
                                         HitSide side) const override;
     bool blocks(const Ray& ray, double t_min, double t_max) const override;
     std::optional<double> front_distance(const Ray& ray, double t_min, double t_max) const override;
+    std::optional<Ball> front_distance_of_ball() const override {
+        if (!whole_sphere()) return std::nullopt;
+        return Ball{m_center, m_radius, m_orientation};
+    }
+    void front_hits(std::size_t n, const Ray* const* rays, const double* dist, const double* limit,
+                    std::optional<SurfaceHit>* out) const override;
     double area(double s0, double s1, double t0, double t1) const override;
     BoundingSphere bound(double s0, double s1, double t0, double t1) const override;
     // Exact: a . P is A(phi) sin(theta) + a_z cos(theta), each factor a shifted cosine.
@@ -46,6 +52,9 @@ public:
     void write_key(ByteWriter& w) const override;
 
 private:
+    // The hit at dist whose direction from the centre has azimuth phi and polar angle th, if
+    // those are inside the ranges.
+    std::optional<SurfaceHit> hit_at_angles(double dist, double phi, double th, bool front) const;
     double theta(double t) const { return (m_bottom - m_top) * (1.0 - t) + m_top; }
     Vec3 m_center;
     double m_radius;

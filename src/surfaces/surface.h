@@ -91,6 +91,23 @@ public:
         const auto h = intersect(ray, t_min, t_max, HitSide::FrontOnly);
         return h ? std::optional<double>(h->dist) : std::nullopt;
     }
+    // Set when front_distance is sphere_front_distance(ray, center, radius, orientation, t_min,
+    // t_max) of surfaces/sphere_hit.h (a whole sphere), which a BVH may then call inline.
+    struct Ball {
+        Vec3 center{0.0};
+        double radius = 0.0;
+        double orientation = 1.0;
+    };
+    virtual std::optional<Ball> front_distance_of_ball() const { return std::nullopt; }
+    // The hits of n rays whose front_distance(*rays[i], 0, limit[i]) was dist[i]: out[i] is
+    // intersect(*rays[i], 0, limit[i], HitSide::FrontOnly), its distance bit for bit and its
+    // parameters within 1e-15 of that call's. A type may find them together (a whole sphere's
+    // angles in SIMD lanes): an image's nearest hits are found this way (geometry/ray_index.h).
+    virtual void front_hits(std::size_t n, const Ray* const* rays, const double* dist, const double* limit,
+                            std::optional<SurfaceHit>* out) const {
+        (void)dist;
+        for (std::size_t i = 0; i < n; ++i) out[i] = intersect(*rays[i], 0.0, limit[i], HitSide::FrontOnly);
+    }
 
     // Exact area of the parameter rectangle [s0,s1] x [t0,t1].
     virtual double area(double s0, double s1, double t0, double t1) const = 0;
