@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
+
 namespace radiosa {
 
 namespace {
@@ -30,27 +32,34 @@ Image render_image(const SceneGeometry& geo, const NodeRadiosity& nodes, const P
     img.rgb.assign(static_cast<size_t>(opt.width) * opt.height * 3, 0.0f);
     const int n = opt.samples;
     const double inv = 1.0 / (n * n);
-    // A row's rays are traced together (in packets through the BVH: neighbours share its
-    // nodes), a pixel's n x n samples in order. Rows are independent and each pixel's samples
-    // are summed in a fixed order, so the image is the same whatever the number of threads.
+    // A row's rays are traced together, a few pixels at a time (in packets through the BVH:
+    // neighbours share its nodes; a few, so that rays and hits stay in the first-level cache),
+    // a pixel's n x n samples in order. Rows are independent and each pixel's samples are
+    // summed in a fixed order, so the image is the same whatever the number of threads.
+    const int per_chunk = std::max(1, PinholeCamera::kRowRays / (n * n));  // pixels traced together
     tbb::parallel_for(tbb::blocked_range<int>(0, opt.height), [&](const tbb::blocked_range<int>& rows) {
-        std::vector<Ray> rays(static_cast<std::size_t>(opt.width) * n * n);
+        std::vector<Ray> rays(static_cast<std::size_t>(per_chunk) * n * n);
         std::vector<std::optional<Hit>> hits(rays.size());
-        for (int y = rows.begin(); y != rows.end(); ++y) {
-            std::size_t r = 0;
-            for (int x = 0; x < opt.width; ++x)
-                for (int sy = 0; sy < n; ++sy)
-                    for (int sx = 0; sx < n; ++sx) rays[r++] = sample_ray(cam, x, y, sx, sy, n);
-            geo.intersect_front(rays.data(), rays.size(), hits.data());
-            r = 0;
-            for (int x = 0; x < opt.width; ++x) {
-                Rgb sum(0.0);
-                for (int k = 0; k < n * n; ++k, ++r)
-                    if (hits[r]) sum += nodes.shade(*hits[r]);  // background (no hit) is black
-                const size_t i = 3 * (static_cast<size_t>(y) * opt.width + x);
-                for (int c = 0; c < 3; ++c) img.rgb[i + c] = static_cast<float>(sum[c] * inv);
+        for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int x0 = 0; x0 < opt.width; x0 += per_chunk) {
+                const int x1 = std::min(opt.width, x0 + per_chunk);
+                if (n * n <= PinholeCamera::kRowRays) {
+                    cam.row_rays(y, x0, x1, n, rays.data());
+                } else {
+                    std::size_t r = 0;
+                    for (int sy = 0; sy < n; ++sy)
+                        for (int sx = 0; sx < n; ++sx) rays[r++] = sample_ray(cam, x0, y, sx, sy, n);
+                }
+                geo.intersect_front(rays.data(), static_cast<std::size_t>(x1 - x0) * n * n, hits.data());
+                std::size_t r = 0;
+                for (int x = x0; x < x1; ++x) {
+                    Rgb sum(0.0);
+                    for (int k = 0; k < n * n; ++k, ++r)
+                        if (hits[r]) sum += nodes.shade(*hits[r]);  // background (no hit) is black
+                    const size_t i = 3 * (static_cast<size_t>(y) * opt.width + x);
+                    for (int c = 0; c < 3; ++c) img.rgb[i + c] = static_cast<float>(sum[c] * inv);
+                }
             }
-        }
     });
     return img;
 }

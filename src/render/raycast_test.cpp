@@ -115,6 +115,35 @@ TEST(Raycast, SamplesAtCellCentresKeepASymmetricViewSymmetric) {
     }
 }
 
+TEST(Raycast, ARowsRaysAreEachPixelsRayBitForBit) {
+    // render_image traces rows a few pixels at a time from PinholeCamera::row_rays (its
+    // arithmetic in arrays, for SIMD lanes): each must be ray() of its sample, bit for bit, so
+    // that images do not change with it.
+    CameraDesc cd;
+    cd.eye = Vec3(3.7, -1.3, 0.9);
+    cd.look_at = Vec3(-0.2, 0.4, -0.1);
+    cd.fov_deg = 63.0;
+    const PinholeCamera cam(cd, 641, 357);
+    for (int n : {1, 2, 3, 8}) {
+        const int pixels = PinholeCamera::kRowRays / (n * n);
+        for (int y : {0, 178, 356})
+            for (int x0 : {0, 333, 641 - pixels}) {
+                Ray rays[PinholeCamera::kRowRays];
+                cam.row_rays(y, x0, x0 + pixels, n, rays);
+                int r = 0;
+                for (int x = x0; x < x0 + pixels; ++x)
+                    for (int sy = 0; sy < n; ++sy)
+                        for (int sx = 0; sx < n; ++sx, ++r) {
+                            const Ray one = cam.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n);
+                            ASSERT_EQ(rays[r].origin, one.origin);
+                            for (int c = 0; c < 3; ++c)
+                                ASSERT_EQ(rays[r].dir[c], one.dir[c])
+                                    << n << " " << x << " " << y << " " << r;
+                        }
+            }
+    }
+}
+
 TEST(Shading, NodesAverageAroundSeamAndPoles) {
     const Scene s = lone_sphere();
     const SceneGeometry geo(s);
