@@ -64,7 +64,8 @@ public:
     // BVH (geometry/ray_index.h, built on the first call); the same hits either way.
     std::optional<Hit> intersect_front(const Ray& ray) const;
     // hits[i] = intersect_front(rays[i]) for i < count; through the BVH in packets, faster for
-    // coherent rays such as an image row's.
+    // coherent rays such as an image row's. There a whole sphere's hit parameters come from
+    // SIMD angles: the same surface and distance, s and t within 1e-15.
     void intersect_front(const Ray* rays, std::size_t count, std::optional<Hit>* hits) const;
     // Below this many surfaces a loop over them is as fast as the BVH (docs/benchmarks.md).
     static constexpr int kRayIndexMinSurfaces = 8;
