@@ -50,12 +50,14 @@ const Rgb& NodeRadiosity::node(int k, int a, int b) const {
 }
 
 Rgb NodeRadiosity::shade(const Hit& h) const {
+    // The patch's four nodes (a, b), (a + 1, b), (a, b + 1), (a + 1, b + 1), found once.
     const Patch& p = m_geo.patch(h.patch);
-    const int a = p.is, b = p.it;
+    const std::size_t stride = static_cast<std::size_t>(m_geo.ns(h.surface)) + 1;
+    const Rgb* n0 = m_nodes[h.surface].data() + static_cast<std::size_t>(p.it) * stride + p.is;
+    const Rgb* n1 = n0 + stride;
     const double u = h.u, v = h.v;
-    return m_E[h.patch] + (1 - u) * (1 - v) * node(h.surface, a, b) +
-           u * (1 - v) * node(h.surface, a + 1, b) + u * v * node(h.surface, a + 1, b + 1) +
-           (1 - u) * v * node(h.surface, a, b + 1);
+    return m_E[h.patch] + (1 - u) * (1 - v) * n0[0] + u * (1 - v) * n0[1] + u * v * n1[1] +
+           (1 - u) * v * n1[0];
 }
 
 }  // namespace radiosa
