@@ -119,7 +119,8 @@ struct RayIndex::Impl {
         };
         const Surface::Ball& ball = q->index->balls[static_cast<std::size_t>(k)];
         if (ball.radius > 0.0) {
-            // A whole sphere: its valid lanes two at a time (surfaces/sphere_hit.h).
+            // A whole sphere: its valid lanes four at a time (AVX) or two (SSE2), one ray alone
+            // by the scalar test: the same operations, so the same bits (surfaces/sphere_hit.h).
             unsigned lane[kPacket];
             unsigned m = 0;
             for (unsigned i = 0; i < n; ++i)
