@@ -24,7 +24,6 @@ QuadSurface::QuadSurface(const Vec3& c0, const Vec3& c1, const Vec3& c2, const V
     m_gx = glm::dot(m_g, m_u), m_gy = glm::dot(m_g, m_v);
     m_k2 = cross2(m_gx, m_gy, m_fx, m_fy);
     m_exf = cross2(m_ex, m_ey, m_fx, m_fy);
-    m_scale = std::abs(m_exf);
 }
 
 Vec3 QuadSurface::point(double s, double t) const { return m_p0 + s * m_e + t * m_f + s * t * m_g; }
@@ -50,7 +49,7 @@ std::optional<std::pair<double, double>> QuadSurface::invert(const Vec3& x) cons
     const double k2 = m_k2;
     const double k1 = cross2(qx, qy, gx, gy) + m_exf;
     const double k0 = cross2(qx, qy, ex, ey);
-    const double scale = m_scale;
+    const double scale = std::abs(m_exf);
     constexpr double kEdge = 1e-12;  // accept points on the boundary despite rounding
 
     auto finish = [&](double t) -> std::optional<std::pair<double, double>> {

@@ -45,7 +45,7 @@ private:
     Plane m_plane;
     Vec3 m_u, m_v;  // orthonormal in-plane axes
     // e, f, g in (u, v) coordinates, and what invert() needs of them alone: found once.
-    double m_ex, m_ey, m_fx, m_fy, m_gx, m_gy, m_k2, m_exf, m_scale;
+    double m_ex, m_ey, m_fx, m_fy, m_gx, m_gy, m_k2, m_exf;
 };
 
 // The triangle a, b, c as a quad whose edge t = 1 collapses to c (surfaces/triangle.cpp).
