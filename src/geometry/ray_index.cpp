@@ -119,8 +119,9 @@ struct RayIndex::Impl {
         };
         const Surface::Ball& ball = q->index->balls[static_cast<std::size_t>(k)];
         if (ball.radius > 0.0) {
-            // A whole sphere: its valid lanes four at a time (AVX) or two (SSE2), one ray alone
-            // by the scalar test: the same operations, so the same bits (surfaces/sphere_hit.h).
+            // A whole sphere: its valid lanes four at a time (AVX; the last group filled up with
+            // copies), else one at a time, by the same operations, so the same bits
+            // (surfaces/sphere_hit.h).
             unsigned lane[kPacket];
             unsigned m = 0;
             for (unsigned i = 0; i < n; ++i)
@@ -128,7 +129,7 @@ struct RayIndex::Impl {
             unsigned j = 0;
 #if defined(__x86_64__)
             static const bool avx = __builtin_cpu_supports("avx");
-            for (; avx && j + 2 < m; j += 4) {  // three or four lanes left: four at once
+            for (; avx && m > 1 && j < m; j += 4) {
                 const Ray* four[4];
                 double limit[4], d[4];
                 unsigned ids[4];
@@ -145,22 +146,11 @@ struct RayIndex::Impl {
                 }
             }
 #endif
-            if (m == 1) {  // one ray (rtcIntersect1): no lanes to share
-                Lane& l = q->lanes[RTCRayN_id(rays, n, lane[0])];
+            for (; j < m; ++j) {  // one ray (rtcIntersect1), or no AVX
+                Lane& l = q->lanes[RTCRayN_id(rays, n, lane[j])];
                 const double d =
                     sphere_front_distance(*l.ray, ball.center, ball.radius, ball.orientation, 0.0, l.next);
-                if (d < l.next) take(lane[0], l, d);
-                return;
-            }
-            for (; j < m; j += 2) {
-                const unsigned i0 = lane[j], i1 = lane[j + 1 < m ? j + 1 : j];
-                Lane& l0 = q->lanes[RTCRayN_id(rays, n, i0)];
-                Lane& l1 = q->lanes[RTCRayN_id(rays, n, i1)];
-                double d[2];
-                sphere_front_distance2(*l0.ray, *l1.ray, ball.center, ball.radius, ball.orientation, l0.next,
-                                       l1.next, d);
-                if (d[0] < l0.next) take(i0, l0, d[0]);
-                if (i1 != i0 && d[1] < l1.next) take(i1, l1, d[1]);
+                if (d < l.next) take(lane[j], l, d);
             }
             return;
         }
@@ -172,26 +162,24 @@ struct RayIndex::Impl {
         }
     }
 
-    // The nearest surfaces' hits of n lanes into out[i] (surface -1: none). Each surface finds
-    // the parameters of its lanes' hits together (Surface::front_hits: a whole sphere's angles
-    // in SIMD lanes), at the distances its front_distance gave, bit for bit, which Surface
-    // promises; should a type ever break that, the loop decides. One ray alone takes the
-    // surface's intersect(), as the loop does.
-    void finish(const Lane* lanes, std::size_t n, Found* out) const {
-        if (n == 1) {
-            const Lane& l = lanes[0];
-            out->surface = -1;
-            if (l.surface < 0) return;
-            if (const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
-                                                                                        HitSide::FrontOnly);
-                h && h->dist == l.best) {
-                out->surface = l.surface;
-                out->hit = *h;
-            } else {
-                by_loop(*l.ray, out);
-            }
-            return;
+    // The nearest surface's hit of one ray into *out (surface -1: none), by that surface's
+    // intersect(), which Surface promises gives the distance front_distance gave, bit for bit;
+    // should a type ever break that, the loop decides.
+    void finish(const Lane& l, Found* out) const {
+        out->surface = -1;
+        if (l.surface < 0) return;
+        if (const auto h = surfaces[static_cast<std::size_t>(l.surface)]->intersect(*l.ray, 0.0, l.limit,
+                                                                                    HitSide::FrontOnly);
+            h && h->dist == l.best) {
+            out->surface = l.surface;
+            out->hit = *h;
+        } else {
+            by_loop(*l.ray, out);
         }
+    }
+    // The same for n lanes of packets, into out[i]: each surface finds the hits of its lanes
+    // together (Surface::front_hits: a whole sphere's angles in SIMD lanes).
+    void finish(const Lane* lanes, std::size_t n, Found* out) const {
         constexpr std::size_t kMax = 64;
         const Ray* rays[kMax];
         double dist[kMax], limit[kMax];
@@ -331,7 +319,7 @@ std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(m->scene, &q.rtc, &rh);
     Found f;
-    m->finish(&lane, 1, &f);
+    m->finish(lane, &f);
     if (f.surface < 0) return std::nullopt;
     return f;
 }

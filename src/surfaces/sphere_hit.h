@@ -47,71 +47,10 @@ inline double sphere_front_distance(const Ray& ray, const Vec3& center, double r
     return std::numeric_limits<double>::infinity();
 }
 
-// sphere_front_distance(*a, ...) and (*b, ...) (t_min 0, t_max ta and tb) in two SIMD lanes:
-// the same operations in the same order, so the same bits.
-inline void sphere_front_distance2(const Ray& a, const Ray& b, const Vec3& center, double radius,
-                                   double orientation, double ta, double tb, double out[2]) {
 #if defined(__x86_64__)
-    const auto pair = [](double x, double y) { return _mm_set_pd(y, x); };  // lane 0 x, lane 1 y
-    const auto dot = [](__m128d x0, __m128d y0, __m128d z0, __m128d x1, __m128d y1, __m128d z1) {
-        return _mm_add_pd(_mm_add_pd(_mm_mul_pd(x0, x1), _mm_mul_pd(y0, y1)), _mm_mul_pd(z0, z1));
-    };
-    const __m128d dx = pair(a.dir.x, b.dir.x), dy = pair(a.dir.y, b.dir.y), dz = pair(a.dir.z, b.dir.z);
-    const __m128d ox = pair(a.origin.x, b.origin.x), oy = pair(a.origin.y, b.origin.y),
-                  oz = pair(a.origin.z, b.origin.z);
-    const __m128d cx = _mm_set1_pd(center.x), cy = _mm_set1_pd(center.y), cz = _mm_set1_pd(center.z);
-    const __m128d ocx = _mm_sub_pd(ox, cx), ocy = _mm_sub_pd(oy, cy), ocz = _mm_sub_pd(oz, cz);
-    const __m128d qa = dot(dx, dy, dz, dx, dy, dz);
-    const __m128d qb = dot(ocx, ocy, ocz, dx, dy, dz);
-    const __m128d k = _mm_div_pd(qb, qa);
-    const __m128d px = _mm_sub_pd(ocx, _mm_mul_pd(k, dx)), py = _mm_sub_pd(ocy, _mm_mul_pd(k, dy)),
-                  pz = _mm_sub_pd(ocz, _mm_mul_pd(k, dz));
-    const __m128d R = _mm_set1_pd(radius);
-    const __m128d disc = _mm_mul_pd(qa, _mm_sub_pd(_mm_mul_pd(R, R), dot(px, py, pz, px, py, pz)));
-    const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
-    // Lanes whose line misses (disc < 0) have no root; the others go on (NaN too, as in the
-    // scalar test, and then no root is in range).
-    const __m128d miss = _mm_cmplt_pd(disc, _mm_setzero_pd());
-    if (_mm_movemask_pd(miss) == 3) {
-        out[0] = out[1] = std::numeric_limits<double>::infinity();
-        return;
-    }
-    const __m128d loc = _mm_sqrt_pd(dot(ocx, ocy, ocz, ocx, ocy, ocz));
-    const __m128d c = _mm_mul_pd(_mm_sub_pd(loc, R), _mm_add_pd(loc, R));
-    const __m128d sign = _mm_set1_pd(-0.0);
-    const __m128d root = _mm_or_pd(_mm_andnot_pd(sign, _mm_sqrt_pd(disc)), _mm_and_pd(sign, qb));  // copysign
-    const __m128d q = _mm_xor_pd(sign, _mm_add_pd(qb, root));
-    __m128d r0 = _mm_div_pd(c, q), r1 = _mm_div_pd(q, qa);
-    const __m128d zero_q = _mm_cmpeq_pd(q, _mm_setzero_pd());
-    r0 = _mm_andnot_pd(zero_q, r0);  // q == 0: both roots 0
-    r1 = _mm_andnot_pd(zero_q, r1);
-    const __m128d swap = _mm_cmpgt_pd(r0, r1);
-    const __m128d lo = _mm_or_pd(_mm_and_pd(swap, r1), _mm_andnot_pd(swap, r0));
-    const __m128d hi = _mm_or_pd(_mm_and_pd(swap, r0), _mm_andnot_pd(swap, r1));
-    const __m128d tmax = pair(ta, tb), O = _mm_set1_pd(orientation);
-    // A root counts when in (0, t_max) and the ray arrives on the front side there.
-    const auto front = [&](__m128d t) {
-        const __m128d hx = _mm_sub_pd(_mm_add_pd(ox, _mm_mul_pd(t, dx)), cx),
-                      hy = _mm_sub_pd(_mm_add_pd(oy, _mm_mul_pd(t, dy)), cy),
-                      hz = _mm_sub_pd(_mm_add_pd(oz, _mm_mul_pd(t, dz)), cz);
-        const __m128d f = _mm_cmplt_pd(_mm_mul_pd(O, dot(hx, hy, hz, dx, dy, dz)), _mm_setzero_pd());
-        return _mm_andnot_pd(
-            miss, _mm_and_pd(f, _mm_and_pd(_mm_cmpgt_pd(t, _mm_setzero_pd()), _mm_cmplt_pd(t, tmax))));
-    };
-    const __m128d take_lo = front(lo), take_hi = front(hi);
-    const __m128d d =
-        _mm_or_pd(_mm_and_pd(take_lo, lo),
-                  _mm_andnot_pd(take_lo, _mm_or_pd(_mm_and_pd(take_hi, hi), _mm_andnot_pd(take_hi, inf))));
-    _mm_storeu_pd(out, d);
-#else
-    out[0] = sphere_front_distance(a, center, radius, orientation, 0.0, ta);
-    out[1] = sphere_front_distance(b, center, radius, orientation, 0.0, tb);
-#endif
-}
-
-#if defined(__x86_64__)
-// The same in four AVX lanes (rays[0..3], t_max[0..3]): call only where the processor has AVX.
-// No FMA: each product and sum rounds as in the scalar test.
+// sphere_front_distance(*rays[i], ..., 0, t_max[i]) for i < 4 in four AVX lanes: the same
+// operations in the same order (no FMA: each product and sum rounds as in the scalar test), so
+// the same bits. Call only where the processor has AVX.
 __attribute__((target("avx"))) inline __m256d dot4(__m256d x0, __m256d y0, __m256d z0, __m256d x1, __m256d y1,
                                                    __m256d z1) {
     return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x0, x1), _mm256_mul_pd(y0, y1)), _mm256_mul_pd(z0, z1));
