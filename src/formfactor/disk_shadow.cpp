@@ -7,42 +7,20 @@
 #include "formfactor/circle_arc.h"
 #include "formfactor/convex_clip.h"
 #include "formfactor/point_polygon.h"
+#include "formfactor/polygon_cone.h"
 #include "util/convex_distance.h"
 
 namespace radiosa {
 
 namespace {
 
-constexpr int kMaxEdges = 20;  // a polygon of up to 16 vertices, cut by x's horizon
-constexpr std::size_t kRegionMax = 4 + kMaxEdges + 4;
+constexpr std::size_t kRegionMax = 4 + PolygonCone::kMaxEdges + 4;
 using Region = PolygonBuffer<kRegionMax>;
-
-// The planes through x and the polygon's edges, by their normals pointing into the polygon's
-// cone.
-struct EdgePlanes {
-    std::array<Vec3, kMaxEdges> f{};
-    int count = 0;
-    bool inside(const Vec3& x, const Vec3& p) const {
-        for (int k = 0; k < count; ++k)
-            if (glm::dot(f[k], p - x) < 0.0) return false;
-        return true;
-    }
-};
-
-// Lambert's term of the straight segment a -> b seen from x: its angle times n . the unit
-// normal of its great circle.
-double segment_term(const Vec3& x, const Vec3& n, const Vec3& a, const Vec3& b) {
-    const Vec3 ra = a - x, rb = b - x;
-    const Vec3 cr = glm::cross(ra, rb);
-    const double l = glm::length(cr);
-    if (!(l > 0.0)) return 0.0;
-    return std::atan2(l, glm::dot(ra, rb)) * glm::dot(n, cr) / l;
-}
 
 // The contour integral of n . (r x dr) / |r|^2 counter-clockwise (about the circle's normal)
 // around the part of the circle's disk inside the region g (a convex polygon in the circle's
 // plane, counter-clockwise, cut by the same planes as `cone`).
-ContourValue disk_in_region(const Circle& k, const Region& g, const EdgePlanes& cone, const Vec3& x,
+ContourValue disk_in_region(const Circle& k, const Region& g, const PolygonCone& cone, const Vec3& x,
                             const Vec3& n) {
     ContourValue out;
     std::array<double, 2 * kRegionMax> angles{};
@@ -112,20 +90,8 @@ bool hull_meets_disk(std::span<const Vec3> points, const FlatDisk& disk) {
 DiskShadowValue point_to_polygon_hidden_by_disk(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                                                 const FlatDisk& disk) {
     if (count < 3 || count > 16 || !(disk.radius > disk.inner_radius)) return {};
-    PolygonBuffer<kMaxEdges> poly;
-    for (int k = 0; k < count; ++k) poly.v[poly.n++] = v[k];
-    poly = clip_half_space(poly, n, x);
-    if (poly.n < 3) return {};
-    // The planes through x and the visible part's edges, turned toward its centroid.
-    EdgePlanes cone;
-    Vec3 mid(0.0);
-    for (int k = 0; k < poly.n; ++k) mid += poly.v[k] - x;
-    for (int k = 0; k < poly.n; ++k) {
-        Vec3 f = glm::cross(poly.v[k] - x, poly.v[(k + 1) % poly.n] - x);
-        if (!(glm::length(f) > 0.0)) continue;
-        if (glm::dot(f, mid) < 0.0) f = -f;
-        cone.f[static_cast<std::size_t>(cone.count++)] = f;
-    }
+    PolygonCone cone;
+    if (!polygon_cone(x, n, v, count, &cone)) return {};
     // The disk's plane cut by those planes: a square around the rim, clipped.
     Circle k;
     k.c = disk.center;
