@@ -11,6 +11,7 @@
 #include "formfactor/column_shadow.h"
 #include "formfactor/convex_clip.h"
 #include "formfactor/cubature.h"
+#include "formfactor/tube_shadow.h"
 #include "surfaces/surface.h"
 #include "util/math.h"
 
@@ -94,6 +95,13 @@ public:
             if (column_wedge(p, t, &h))
                 for (const Vec3& m : h) m_planes.push_back({m, p});
         }
+    }
+    // A whole round tube in front of the pair (formfactor/tube_shadow.h): its rims' events as a
+    // disk's (x on an end plane, a rim touching an edge's plane or passing a vertex), and the
+    // silhouette generators passing a vertex (as a column's wedge).
+    void add_tube(const std::array<Vec3, 4>& v, const RoundTube& t) {
+        for (const FlatDisk& rim : tube_rims(t)) add_disk(v, rim);
+        add_column(v, t);
     }
     // The receiver's own plane (x passing behind it). `n` need not be unit.
     void add_plane(const Vec3& n, const Vec3& p) { m_planes.push_back({n, p}); }

@@ -7,6 +7,7 @@
 #include "formfactor/disk_shadow.h"
 #include "formfactor/events.h"
 #include "formfactor/point_polygon.h"
+#include "formfactor/tube_shadow.h"
 #include "formfactor/polygon_polygon.h"
 #include "util/convex_distance.h"
 
@@ -73,18 +74,23 @@ public:
     // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const PlanarReceiver& shadow, double tol) const {
-        if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column) &&
+        if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column || shadow.tube) &&
             m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> v = m_geo.front_polygon(j);
         const BoundingSphere* b = shadow.spheres.empty() ? nullptr : &shadow.spheres[0];
+        const std::optional<std::array<FlatDisk, 2>> ends =
+            shadow.ends ? std::optional(tube_rims(*shadow.ends)) : std::nullopt;
         auto g = [&](double s, double t) {
             const Vec3 nrm = si.normal(s, t);
             const double da = glm::length(nrm);
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
+            if (ends)  // from inside the tube: what each open end lets through
+                return da * (point_to_polygon_hidden_by_disk(x, nrm / da, v.data(), 4, (*ends)[0]).value +
+                             point_to_polygon_hidden_by_disk(x, nrm / da, v.data(), 4, (*ends)[1]).value);
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) -
                          hidden_past_first_ball(x, nrm / da, v, shadow));
         };
@@ -100,11 +106,13 @@ public:
         for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(v, ball);
         events.add_flats(v, shadow.flats);
         if (shadow.disk) events.add_disk(v, *shadow.disk);
+        if (ends)
+            for (const FlatDisk& rim : *ends) events.add_disk(v, rim);
         auto geometric = [&](const Rect& r, double fine) {
             // A shadow's edge makes the integrand only once differentiable where it sweeps
             // across the patch; nested estimates on the whole patch can miss that, so shadowed
             // pairs start from quarters.
-            if (b || !shadow.flats.empty() || shadow.disk) {
+            if (b || !shadow.flats.empty() || shadow.disk || ends) {
                 if (const Cut c = quarter_of(Rect{pi.s0, pi.s1, pi.t0, pi.t1}, r); c.dir >= 0) return c;
             }
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
@@ -118,9 +126,9 @@ public:
             // where a shadow's edge crosses.
             // On a sphere, what the sliver can be worth is bounded (sliver_bound): the region
             // is then refined like any other, by its share of the error, and the search ends
-            // when the bounds are small enough instead of at the cap. Nor under a disk's shadow,
-            // for the same reason.
-            if (fine == 0.0 && !b && !shadow.disk && !events.empty() && events.crosses(si, r)) {
+            // when the bounds are small enough instead of at the cap. Nor under a disk's shadow
+            // or through a tube's ends, for the same reason.
+            if (fine == 0.0 && !b && !shadow.disk && !ends && !events.empty() && events.crosses(si, r)) {
                 const double ls = glm::length(si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
                                               si.point(r.s0, 0.5 * (r.t0 + r.t1))),
                              lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
@@ -206,6 +214,8 @@ public:
                 return da * point_to_polygon_hidden_by_disk(x, unit, vj.data(), 4, *shadow.disk).value;
             if (shadow.column)
                 return da * point_to_polygon_hidden_by_column(x, unit, vj.data(), 4, *shadow.column);
+            if (shadow.tube)
+                return da * point_to_polygon_hidden_by_tube(x, unit, vj.data(), 4, *shadow.tube).value;
             if (shadow.spheres.empty())
                 return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
             double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
@@ -229,6 +239,7 @@ public:
         events.add_flats(vj, shadow.flats);
         if (shadow.disk) events.add_disk(vj, *shadow.disk);
         if (shadow.column) events.add_column(vj, *shadow.column);
+        if (shadow.tube) events.add_tube(vj, *shadow.tube);
         auto geometric = [&](const Rect& r, double fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
@@ -237,9 +248,10 @@ public:
             return Cut{events.split_toward(si, r, ws * s_len >= wt * t_len ? 0 : 1)};
         };
         const double region_tol = pair_tol - open.error;
-        // A disk's rim bends its outline smoothly, as a ball's does.
+        // A disk's rim bends its outline smoothly, as a ball's does; a tube's outline has corners
+        // where its rims cross (the lens of directions through both ends).
         const double fraction =
-            shadow.spheres.empty() && !shadow.disk ? kFlatKinkFraction : kSphereKinkFraction;
+            (shadow.spheres.empty() && !shadow.disk) || shadow.tube ? kFlatKinkFraction : kSphereKinkFraction;
         // A region worth less than its tolerance, with an event crossing it and segments that may
         // meet the occluder, may be the onset of a shadow whose tip its nodes barely see
         // (measured: nodes saw 3e-13 of 1.1e-9, seed scene at 1e-10), so its value says nothing
@@ -279,6 +291,7 @@ public:
         for (const auto& q : shadow.flats)
             if (convex_distance(hull, q, m_eps) <= m_eps) return true;
         if (shadow.column && hull_meets_column(hull, *shadow.column)) return true;
+        if (shadow.tube && hull_meets_tube(hull, *shadow.tube)) return true;
         return shadow.disk && hull_meets_disk(hull, *shadow.disk);
     }
 
@@ -314,10 +327,8 @@ std::optional<FlatDisk> one_disk_between(const SceneGeometry& g, const Patch& pi
     return disk;
 }
 
-// The one round tube that every blocker is (its two sides are one), when it spans the pair of
-// polygons i -> j (column_spans_pair).
-std::optional<RoundTube> one_column_between(const SceneGeometry& g, int i, int j,
-                                            const std::vector<int>& blockers) {
+// The one round tube that every blocker is (its two sides are one), between two polygons.
+std::optional<RoundTube> one_tube_between(const SceneGeometry& g, int i, int j, const std::vector<int>& blockers) {
     std::optional<RoundTube> tube;
     for (int k : blockers) {
         const auto t = g.surface(k).round_tube();
@@ -327,8 +338,30 @@ std::optional<RoundTube> one_column_between(const SceneGeometry& g, int i, int j
         tube = t;
     }
     if (!tube || !g.patch(i).polygon || !g.patch(j).polygon) return std::nullopt;
-    const std::array<Vec3, 4> a = g.front_polygon(i), b = g.front_polygon(j);
-    if (!column_spans_pair(a, b, *tube, 1e-9 * g.scale())) return std::nullopt;
+    return tube;
+}
+
+// The whole round tube that patch i lies inside of, when that tube (either side) is every
+// blocker and both its ends lie wholly in front of the receiver's plane: from inside, i sees
+// the receiver through the ends and nothing else (a segment from the tube's inside to a point
+// of either end stays in its solid cylinder).
+std::optional<RoundTube> tube_around(const SceneGeometry& g, int i, const Plane& receiver,
+                                     const std::vector<int>& blockers) {
+    const Patch& pi = g.patch(i);
+    const Surface& si = g.surface(pi.surface);
+    const auto tube = si.round_tube();
+    if (!tube) return std::nullopt;
+    for (int k : blockers) {
+        const auto t = g.surface(k).round_tube();
+        if (!t || !(t->base == tube->base && t->axis == tube->axis && t->length == tube->length &&
+                    t->radius == tube->radius))
+            return std::nullopt;
+    }
+    const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
+    const Vec3 p = si.point(sm, tm), off = p - tube->base - glm::dot(p - tube->base, tube->axis) * tube->axis;
+    if (!(glm::dot(si.normal(sm, tm), off) < 0.0)) return std::nullopt;  // the outside
+    if (!(tube_min_signed_distance(*tube, receiver.normal, receiver.offset) > 1e-9 * g.scale()))
+        return std::nullopt;
     return tube;
 }
 
@@ -364,13 +397,28 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
     }
     const auto plane = g.surface(pj.surface).plane();
     if (!plane) return std::nullopt;
+    if (const auto t = tube_around(g, i, *plane, blockers)) {
+        how.ends = t;
+        return how;
+    }
     if (const auto d = one_disk_between(g, pi, *plane, blockers)) {
         how.disk = d;
         return how;
     }
-    if (const auto t = one_column_between(g, i, j, blockers)) {
-        how.column = t;
-        return how;
+    if (const auto t = one_tube_between(g, i, j, blockers)) {
+        // Spanning the pair (column_spans_pair): the wedge, a polygon. Else wholly in front of
+        // both planes, by more than rounding at the scene's scale: the tube's outline.
+        const double margin = 1e-9 * g.scale();
+        const auto source = g.surface(pi.surface).plane();
+        if (column_spans_pair(g.front_polygon(i), g.front_polygon(j), *t, margin)) {
+            how.column = t;
+            return how;
+        }
+        if (source && tube_min_signed_distance(*t, plane->normal, plane->offset) > margin &&
+            tube_min_signed_distance(*t, source->normal, source->offset) > margin) {
+            how.tube = t;
+            return how;
+        }
     }
     if (blockers.size() > kMaxShadowBalls) return std::nullopt;
     for (int k : blockers) {

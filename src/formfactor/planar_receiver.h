@@ -4,7 +4,8 @@
 // accepts are whole balls whose shadows never overlap as seen from the source patch (each
 // hides a part of the polygon in closed form: formfactor/point_polygon.h), a few flat convex
 // quads (their shadows on the polygon are polygons), one whole flat disk or annulus
-// (formfactor/disk_shadow.h) or one column spanning the pair (formfactor/column_shadow.h). Between two
+// (formfactor/disk_shadow.h), one column spanning the pair (formfactor/column_shadow.h) or one
+// whole round tube of any length in front of both (formfactor/tube_shadow.h). Between two
 // polygons with occluders the unblocked exchange is the contour integral and only the shadow is integrated
 // over the source patch. The outer integral is adaptive, cut along shadow edges and horizons
 // (formfactor/events.h).
@@ -29,6 +30,13 @@ struct PlanarReceiver {
     // One round tube spanning the pair (formfactor/column_shadow.h): a column from floor to
     // ceiling between two walls; its shadow is a polygon.
     std::optional<RoundTube> column;
+    // One whole round tube, wholly in front of both polygons' planes, that does not span them:
+    // its shadow is in closed form too (formfactor/tube_shadow.h).
+    std::optional<RoundTube> tube;
+    // Patch i lies on the inside of this whole round tube, and the tube is all that may block:
+    // from inside, the polygon is seen through the tube's two open ends, each a disk whose
+    // cone cuts the polygon in closed form (formfactor/disk_shadow.h).
+    std::optional<RoundTube> ends;
 };
 
 // At most this many balls between a pair.
@@ -45,7 +53,8 @@ bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const B
 // that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
 // most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
 // or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's),
-// or one round tube spanning two polygons. `blockers`
+// or one whole round tube between two polygons (spanning them, or in front of both), or patch i
+// lies inside the one tube that may block and sees the polygon through its ends. `blockers`
 // are the pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
 std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
                                               const std::vector<int>& blockers, bool visibility);

@@ -1,0 +1,257 @@
+#include "formfactor/tube_shadow.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "formfactor/circle_arc.h"
+#include "formfactor/disk_shadow.h"
+#include "formfactor/point_polygon.h"
+#include "formfactor/polygon_cone.h"
+#include "util/convex_distance.h"
+
+namespace radiosa {
+
+namespace {
+
+// A piece of an outline: the segment a -> b, or the arc of rim `rim` from angle `from` to `to`
+// (either order), whose ends are a and b.
+struct Piece {
+    Vec3 a{0.0}, b{0.0};
+    int rim = -1;  // -1: a segment
+    double from = 0.0, to = 0.0;
+};
+
+// A closed outline, convex on the sphere of directions from x. Each cut by a plane through x
+// adds at most a chord and splits at most one arc in two.
+struct Outline {
+    static constexpr int kMax = 4 + 3 * PolygonCone::kMaxEdges;
+    std::array<Piece, kMax> p{};
+    int n = 0;
+    bool full() const { return n >= kMax; }
+    void add(const Piece& q) {
+        if (!full()) p[static_cast<std::size_t>(n++)] = q;
+    }
+    void arc(const std::array<Circle, 2>& rims, int rim, double from, double to) {
+        add({rims[static_cast<std::size_t>(rim)].at(from), rims[static_cast<std::size_t>(rim)].at(to), rim,
+             from, to});
+    }
+    void segment(const Vec3& a, const Vec3& b) { add({a, b, -1, 0.0, 0.0}); }
+};
+
+// The part of the outline where f . (y - x) >= 0: each piece's part on that side, and a chord
+// wherever the outline left it and came back (both ends on the plane through x).
+Outline cut(const Outline& in, const Vec3& f, const Vec3& x, const std::array<Circle, 2>& rims) {
+    Outline kept;
+    for (int k = 0; k < in.n; ++k) {
+        const Piece& q = in.p[static_cast<std::size_t>(k)];
+        if (q.rim < 0) {
+            const double da = glm::dot(f, q.a - x), db = glm::dot(f, q.b - x);
+            if (da >= 0.0 && db >= 0.0) {
+                kept.add(q);
+            } else if (da >= 0.0 || db >= 0.0) {
+                const Vec3 m = q.a + (q.b - q.a) * (da / (da - db));
+                kept.segment(da >= 0.0 ? q.a : m, da >= 0.0 ? m : q.b);
+            }
+            continue;
+        }
+        // Along the rim, f . (y - x) = C + P cos u + Q sin u: zero at psi +- delta.
+        const Circle& c = rims[static_cast<std::size_t>(q.rim)];
+        const double C = glm::dot(f, c.c - x), P = c.rho * glm::dot(f, c.e1), Q = c.rho * glm::dot(f, c.e2);
+        const double R = std::hypot(P, Q);
+        std::array<double, 6> at{};  // the arc's parameter (0 at `from`, 1 at `to`) of its cuts
+        int na = 0;
+        const double span = q.to - q.from;
+        if (R > std::abs(C) && span != 0.0) {
+            const double psi = std::atan2(Q, P), delta = std::acos(-C / R);
+            for (const double root : {psi - delta, psi + delta})
+                for (int turn = -2; turn <= 2; ++turn) {
+                    const double u = (root + 2.0 * kPi * turn - q.from) / span;
+                    if (u > 0.0 && u < 1.0 && na < static_cast<int>(at.size())) at[static_cast<std::size_t>(na++)] = u;
+                }
+        }
+        for (int s = 1; s < na; ++s)  // at most six: insertion
+            for (int k2 = s; k2 > 0 && at[static_cast<std::size_t>(k2)] < at[static_cast<std::size_t>(k2 - 1)]; --k2)
+                std::swap(at[static_cast<std::size_t>(k2)], at[static_cast<std::size_t>(k2 - 1)]);
+        double u0 = 0.0;
+        for (int s = 0; s <= na; ++s) {
+            const double u1 = s < na ? at[static_cast<std::size_t>(s)] : 1.0;
+            const double mid = q.from + 0.5 * (u0 + u1) * span;
+            if (u1 > u0 && C + P * std::cos(mid) + Q * std::sin(mid) >= 0.0)
+                kept.arc(rims, q.rim, q.from + u0 * span, s < na ? q.from + u1 * span : q.to);
+            u0 = u1;
+        }
+    }
+    Outline out;
+    for (int k = 0; k < kept.n; ++k) {
+        const Piece& q = kept.p[static_cast<std::size_t>(k)];
+        out.add(q);
+        const Vec3& next = kept.p[static_cast<std::size_t>((k + 1) % kept.n)].a;
+        if (q.b != next) out.segment(q.b, next);
+    }
+    return out;
+}
+
+// The contour integral of n . (r x dr) / |r|^2 around the outline, up to its orientation.
+ContourValue integrate(const Outline& o, const Vec3& x, const Vec3& n, const std::array<Circle, 2>& rims) {
+    ContourValue out;
+    constexpr double kArcTol = 1e-14;
+    for (int k = 0; k < o.n; ++k) {
+        const Piece& q = o.p[static_cast<std::size_t>(k)];
+        if (q.rim < 0) {
+            out.value += segment_term(x, n, q.a, q.b);
+            continue;
+        }
+        if (q.from == q.to) continue;
+        const Circle& c = rims[static_cast<std::size_t>(q.rim)];
+        double lo = std::min(q.from, q.to), hi = std::max(q.from, q.to);
+        const double turns = std::floor((lo + kPi) / (2.0 * kPi));  // lo into [-pi, pi)
+        lo -= 2.0 * kPi * turns;
+        hi -= 2.0 * kPi * turns;
+        const ContourValue v = circle_arc_integral(c, x, n, c.nearest_angle(x), lo, hi, kArcTol);
+        out.value += q.to > q.from ? v.value : -v.value;
+        out.error += v.error;
+    }
+    return out;
+}
+
+// The form factor of the outline's part inside the polygon's cone.
+TubeShadowValue inside_cone(Outline o, const PolygonCone& cone, const Vec3& x, const Vec3& n,
+                            const std::array<Circle, 2>& rims) {
+    for (int k = 0; k < cone.count && o.n > 0; ++k) o = cut(o, cone.f[static_cast<std::size_t>(k)], x, rims);
+    if (o.n == 0) return {};
+    const ContourValue c = integrate(o, x, n, rims);
+    return {std::abs(c.value) / (2.0 * kPi), c.error / (2.0 * kPi)};
+}
+
+// The unit vector across the axis from which the rims' angles count (the second is axis x e1).
+Vec3 tube_e1(const RoundTube& tube) {
+    const Vec3& a = tube.axis;
+    return glm::normalize(std::abs(a.x) < 0.9 ? glm::cross(a, Vec3(1, 0, 0)) : glm::cross(a, Vec3(0, 1, 0)));
+}
+
+// How the tube looks from x: x between the end planes or beyond one (the near rim, 0 at the
+// base), outside the infinite cylinder or not, at angle phi about the axis (from tube_e1); the
+// silhouette generators at phi +- beta; and from beyond an end, outside the cylinder, whether
+// the rims' cones cross (the lens of directions through both ends) and where: at phi +-
+// lens_near on the near rim, phi + pi +- lens_far on the far one.
+struct TubeView {
+    bool between = false, outside = false, lens = false;
+    int near = 0;
+    double phi = 0.0, beta = 0.0, lens_near = 0.0, lens_far = 0.0;
+};
+
+TubeView tube_view(const Vec3& x, const RoundTube& tube) {
+    TubeView out;
+    const Vec3 e1 = tube_e1(tube), e2 = glm::cross(tube.axis, e1);
+    // x's height along the axis, and its offset from the axis: distance D at angle phi.
+    const double h = glm::dot(x - tube.base, tube.axis);
+    const Vec3 off = x - tube.base - h * tube.axis;
+    const double D = glm::length(off), r = tube.radius;
+    out.phi = std::atan2(glm::dot(off, e2), glm::dot(off, e1));
+    out.outside = D > r;
+    out.beta = out.outside ? std::acos(r / D) : 0.0;
+    out.between = h >= 0.0 && h <= tube.length;
+    out.near = h > tube.length ? 1 : 0;
+    if (out.between || !out.outside) return out;
+    // The far rim seen from x on the near rim's plane: the near rim's circle scaled by t about
+    // x's foot (distance D from the centre), so its centre lies (1 - t) D from the near centre
+    // toward x's foot, with radius t r. Where the two circles cross, a from the near centre:
+    // the lens's corners.
+    const double hn = h < 0.0 ? -h : h - tube.length, t = hn / (hn + tube.length);
+    const double d = (1.0 - t) * D, r2 = t * r;
+    out.lens = d < r + r2;
+    if (out.lens) {
+        const double a = (d * d + r * r - r2 * r2) / (2.0 * d);
+        out.lens_near = std::acos(std::clamp(a / r, -1.0, 1.0));
+        out.lens_far = std::acos(std::clamp((d - a) / r2, -1.0, 1.0));
+    }
+    return out;
+}
+
+}  // namespace
+
+std::array<FlatDisk, 2> tube_rims(const RoundTube& tube) {
+    return {FlatDisk{tube.base, tube.axis, tube.radius, 0.0},
+            FlatDisk{tube.base + tube.length * tube.axis, tube.axis, tube.radius, 0.0}};
+}
+
+double tube_min_signed_distance(const RoundTube& tube, const Vec3& m, double o) {
+    const auto rims = tube_rims(tube);
+    return std::min(disk_min_signed_distance(rims[0], m, o), disk_min_signed_distance(rims[1], m, o));
+}
+
+bool hull_meets_tube(std::span<const Vec3> points, const RoundTube& tube) {
+    // The hull's part between the end planes is the hull of its points there and of where the
+    // segments between its points cross those planes; along the axis it projects onto a convex
+    // set, which meets the tube's circle or not.
+    std::array<Vec3, 80> slice;
+    std::size_t n = 0;
+    const auto height = [&](const Vec3& p) { return glm::dot(p - tube.base, tube.axis); };
+    const auto flatten = [&](const Vec3& p) { return p - height(p) * tube.axis; };
+    for (std::size_t a = 0; a < points.size(); ++a) {
+        const double ha = height(points[a]);
+        if (ha >= 0.0 && ha <= tube.length && n < slice.size()) slice[n++] = flatten(points[a]);
+        for (std::size_t b = a + 1; b < points.size(); ++b) {
+            const double hb = height(points[b]);
+            for (const double level : {0.0, tube.length})
+                if (((ha < level && hb > level) || (ha > level && hb < level)) && n < slice.size())
+                    slice[n++] = flatten(points[a] + (points[b] - points[a]) * ((level - ha) / (hb - ha)));
+        }
+    }
+    if (n == 0) return false;
+    const std::array<Vec3, 1> c = {tube.base};
+    return convex_distance(std::span<const Vec3>(slice.data(), n), c, tube.radius) <= tube.radius;
+}
+
+TubeShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                                const RoundTube& tube) {
+    if (count < 3 || count > 16 || !(tube.radius > 0.0) || !(tube.length > 0.0)) return {};
+    PolygonCone cone;
+    if (!polygon_cone(x, n, v, count, &cone)) return {};
+    std::array<Circle, 2> rims;
+    for (int k = 0; k < 2; ++k) {
+        Circle& c = rims[static_cast<std::size_t>(k)];
+        c.n = tube.axis;
+        c.e1 = tube_e1(tube);
+        c.e2 = glm::cross(c.n, c.e1);
+        c.c = tube.base + (k ? tube.length : 0.0) * tube.axis;
+        c.rho = tube.radius;
+    }
+    const TubeView view = tube_view(x, tube);
+    const double phi = view.phi, beta = view.beta;
+    Outline hull, lens;
+    if (view.between) {
+        // Between the end planes: the front half (x outside the cylinder, else x is in the solid).
+        if (!view.outside) return {};
+        hull.arc(rims, 0, phi - beta, phi + beta);
+        hull.segment(rims[0].at(phi + beta), rims[1].at(phi + beta));
+        hull.arc(rims, 1, phi + beta, phi - beta);
+        hull.segment(rims[1].at(phi - beta), rims[0].at(phi - beta));
+    } else if (!view.outside) {
+        // x within the cylinder: the near disk, minus the far disk seen through it.
+        hull.arc(rims, view.near, 0.0, 2.0 * kPi);
+        lens.arc(rims, 1 - view.near, 0.0, 2.0 * kPi);
+    } else {
+        const int near = view.near, far = 1 - near;
+        hull.arc(rims, near, phi + beta, phi - beta + 2.0 * kPi);
+        hull.segment(rims[near].at(phi - beta), rims[far].at(phi - beta));
+        hull.arc(rims, far, phi - beta, phi + beta);
+        hull.segment(rims[far].at(phi + beta), rims[near].at(phi + beta));
+        if (view.lens) {
+            lens.arc(rims, near, phi - view.lens_near, phi + view.lens_near);
+            lens.arc(rims, far, phi + kPi - view.lens_far, phi + kPi + view.lens_far);
+        }
+    }
+    TubeShadowValue out = inside_cone(hull, cone, x, n, rims);
+    if (lens.n > 0) {
+        const TubeShadowValue through = inside_cone(lens, cone, x, n, rims);
+        out.value -= through.value;
+        out.error += through.error;
+    }
+    const double open = point_to_polygon(x, n, v, count, nullptr);
+    out.value = std::clamp(out.value, 0.0, open);
+    return out;
+}
+
+}  // namespace radiosa
