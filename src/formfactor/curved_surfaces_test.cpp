@@ -259,8 +259,9 @@ TEST(CurvedSurfaces, TwoSidedTubeInABoxCloses) {
     // past its side), and its inside sees the walls through its two ends (a disk each). No pair
     // is left to the numeric path; the box closes to 1e-8 (measured 2.9e-9).
     std::string s = "surfaces:\n" + box_faces(1);
-    s += "  - {name: pipe, type: cylinder, base: [0, 0, -0.5], axis: [0, 0, 1], radius: 0.3, facing: outward, "
-         "patches: [4, 1], reflectance: [0.8, 0.8, 0.8], two_sided: true}\n";
+    s +=
+        "  - {name: pipe, type: cylinder, base: [0, 0, -0.5], axis: [0, 0, 1], radius: 0.3, facing: outward, "
+        "patches: [4, 1], reflectance: [0.8, 0.8, 0.8], two_sided: true}\n";
     const Scene scene = parse_scene(s, "pipe.yaml");
     const FormFactors ff = adaptive(scene, 1e-8);
     EXPECT_EQ(ff.stats.numeric, 0);

@@ -7,8 +7,8 @@
 #include "formfactor/disk_shadow.h"
 #include "formfactor/events.h"
 #include "formfactor/point_polygon.h"
-#include "formfactor/tube_shadow.h"
 #include "formfactor/polygon_polygon.h"
+#include "formfactor/tube_shadow.h"
 #include "util/convex_distance.h"
 
 namespace radiosa {
@@ -74,7 +74,8 @@ public:
     // accurate to tol times what the smaller one sends, so a big patch's entry for a tiny
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const PlanarReceiver& shadow, double tol) const {
-        if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column || shadow.tube) &&
+        if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column ||
+             shadow.tube) &&
             m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
@@ -328,7 +329,8 @@ std::optional<FlatDisk> one_disk_between(const SceneGeometry& g, const Patch& pi
 }
 
 // The one round tube that every blocker is (its two sides are one), between two polygons.
-std::optional<RoundTube> one_tube_between(const SceneGeometry& g, int i, int j, const std::vector<int>& blockers) {
+std::optional<RoundTube> one_tube_between(const SceneGeometry& g, int i, int j,
+                                          const std::vector<int>& blockers) {
     std::optional<RoundTube> tube;
     for (int k : blockers) {
         const auto t = g.surface(k).round_tube();

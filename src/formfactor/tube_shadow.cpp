@@ -67,11 +67,13 @@ Outline cut(const Outline& in, const Vec3& f, const Vec3& x, const std::array<Ci
             for (const double root : {psi - delta, psi + delta})
                 for (int turn = -2; turn <= 2; ++turn) {
                     const double u = (root + 2.0 * kPi * turn - q.from) / span;
-                    if (u > 0.0 && u < 1.0 && na < static_cast<int>(at.size())) at[static_cast<std::size_t>(na++)] = u;
+                    if (u > 0.0 && u < 1.0 && na < static_cast<int>(at.size()))
+                        at[static_cast<std::size_t>(na++)] = u;
                 }
         }
         for (int s = 1; s < na; ++s)  // at most six: insertion
-            for (int k2 = s; k2 > 0 && at[static_cast<std::size_t>(k2)] < at[static_cast<std::size_t>(k2 - 1)]; --k2)
+            for (int k2 = s;
+                 k2 > 0 && at[static_cast<std::size_t>(k2)] < at[static_cast<std::size_t>(k2 - 1)]; --k2)
                 std::swap(at[static_cast<std::size_t>(k2)], at[static_cast<std::size_t>(k2 - 1)]);
         double u0 = 0.0;
         for (int s = 0; s <= na; ++s) {

@@ -36,7 +36,8 @@ bool segment_meets_tube(const Vec3& x, const Vec3& y, const RoundTube& t) {
 
 // The hidden form factor by the midpoint rule on an m x m grid over the quad v (a
 // parallelogram), with the ray test at each point.
-double brute_force_hidden(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v, const RoundTube& t, int m) {
+double brute_force_hidden(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v, const RoundTube& t,
+                          int m) {
     const Vec3 e = v[1] - v[0], f = v[3] - v[0];
     const Vec3 nv = glm::cross(e, f);
     const double da = glm::length(nv) / (m * m);
@@ -77,8 +78,11 @@ TEST(TubeShadow, FromUnderEitherEndTheNearDiskMinusTheFarOne) {
             for (const Vec3& m : {Vec3(0, 0, 1), glm::normalize(Vec3(0.3, 0.2, 1))}) {
                 const Vec3 x(p.x, p.y, up * p.z), n(m.x, m.y, up * m.z);
                 const double disks =
-                    point_to_polygon_hidden_by_disk(x, n, v.data(), 4, rims[static_cast<std::size_t>(near)]).value -
-                    point_to_polygon_hidden_by_disk(x, n, v.data(), 4, rims[static_cast<std::size_t>(1 - near)]).value;
+                    point_to_polygon_hidden_by_disk(x, n, v.data(), 4, rims[static_cast<std::size_t>(near)])
+                        .value -
+                    point_to_polygon_hidden_by_disk(x, n, v.data(), 4,
+                                                    rims[static_cast<std::size_t>(1 - near)])
+                        .value;
                 const TubeShadowValue t = point_to_polygon_hidden_by_tube(x, n, v.data(), 4, kTube);
                 EXPECT_NEAR(t.value, disks, 1e-13) << x.x << "," << x.y << "," << x.z;
                 EXPECT_GT(t.value, 1e-3);
@@ -106,8 +110,10 @@ TEST(TubeShadow, ContinuousAcrossAnEndPlane) {
     const auto v = wall(2.0, 1.5, 0.0);
     const Vec3 n(0, 1, 0);
     for (const double y : {-1.2, -0.5}) {
-        const double below = point_to_polygon_hidden_by_tube(Vec3(0.2, y, 0.5 - 1e-9), n, v.data(), 4, kTube).value;
-        const double above = point_to_polygon_hidden_by_tube(Vec3(0.2, y, 0.5 + 1e-9), n, v.data(), 4, kTube).value;
+        const double below =
+            point_to_polygon_hidden_by_tube(Vec3(0.2, y, 0.5 - 1e-9), n, v.data(), 4, kTube).value;
+        const double above =
+            point_to_polygon_hidden_by_tube(Vec3(0.2, y, 0.5 + 1e-9), n, v.data(), 4, kTube).value;
         EXPECT_NEAR(below, above, 1e-8);
         EXPECT_GT(below, 1e-3);
     }
