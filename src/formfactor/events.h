@@ -98,10 +98,20 @@ public:
     }
     // A whole round tube in front of the pair (formfactor/tube_shadow.h): its rims' events as a
     // disk's (x on an end plane, a rim touching an edge's plane or passing a vertex), and the
-    // silhouette generators passing a vertex (as a column's wedge).
-    void add_tube(const std::array<Vec3, 4>& v, const RoundTube& t) {
+    // silhouette generators passing a vertex: x on a plane through the vertex tangent to the
+    // surface (along the axis for a cylinder, through the apex for a cone).
+    void add_tube(const std::array<Vec3, 4>& v, const RoundFrustum& t) {
         for (const FlatDisk& rim : tube_rims(t)) add_disk(v, rim);
-        add_column(v, t);
+        if (t.top_radius == t.radius) {
+            add_column(v, RoundTube{t.base, t.axis, t.length, t.radius});
+            return;
+        }
+        // Planes through the apex tangent to the cone touch its wider rim.
+        const Vec3 apex = t.base + (t.length * t.radius / (t.radius - t.top_radius)) * t.axis;
+        const bool top = t.top_radius > t.radius;
+        for (const Vec3& p : v)
+            add_rim_tangents(p, apex, t.base + (top ? t.length : 0.0) * t.axis, t.axis,
+                             top ? t.top_radius : t.radius);
     }
     // The receiver's own plane (x passing behind it). `n` need not be unit.
     void add_plane(const Vec3& n, const Vec3& p) { m_planes.push_back({n, p}); }

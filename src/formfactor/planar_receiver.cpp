@@ -305,6 +305,11 @@ private:
     double m_eps;  // lengths below this are zero at the scene's scale (Culling::eps)
 };
 
+bool same_tube(const RoundFrustum& a, const RoundFrustum& b) {
+    return a.base == b.base && a.axis == b.axis && a.length == b.length && a.radius == b.radius &&
+           a.top_radius == b.top_radius;
+}
+
 // The one flat disk or annulus that every blocker is (the two sides of a two-sided disk are
 // one), when it lies wholly in front of patch i's plane and of the receiver's, by more than
 // rounding at the scene's scale.
@@ -328,15 +333,14 @@ std::optional<FlatDisk> one_disk_between(const SceneGeometry& g, const Patch& pi
     return disk;
 }
 
-// The one round tube that every blocker is (its two sides are one), between two polygons.
-std::optional<RoundTube> one_tube_between(const SceneGeometry& g, int i, int j,
-                                          const std::vector<int>& blockers) {
-    std::optional<RoundTube> tube;
+// The one whole round tube (cylinder or truncated cone) that every blocker is (its two sides
+// are one), between two polygons.
+std::optional<RoundFrustum> one_tube_between(const SceneGeometry& g, int i, int j,
+                                             const std::vector<int>& blockers) {
+    std::optional<RoundFrustum> tube;
     for (int k : blockers) {
-        const auto t = g.surface(k).round_tube();
-        if (!t || (tube && !(t->base == tube->base && t->axis == tube->axis && t->length == tube->length &&
-                             t->radius == tube->radius)))
-            return std::nullopt;
+        const auto t = g.surface(k).round_frustum();
+        if (!t || (tube && !same_tube(*t, *tube))) return std::nullopt;
         tube = t;
     }
     if (!tube || !g.patch(i).polygon || !g.patch(j).polygon) return std::nullopt;
@@ -347,17 +351,15 @@ std::optional<RoundTube> one_tube_between(const SceneGeometry& g, int i, int j,
 // blocker and both its ends lie wholly in front of the receiver's plane: from inside, i sees
 // the receiver through the ends and nothing else (a segment from the tube's inside to a point
 // of either end stays in its solid cylinder).
-std::optional<RoundTube> tube_around(const SceneGeometry& g, int i, const Plane& receiver,
-                                     const std::vector<int>& blockers) {
+std::optional<RoundFrustum> tube_around(const SceneGeometry& g, int i, const Plane& receiver,
+                                        const std::vector<int>& blockers) {
     const Patch& pi = g.patch(i);
     const Surface& si = g.surface(pi.surface);
-    const auto tube = si.round_tube();
+    const auto tube = si.round_frustum();
     if (!tube) return std::nullopt;
     for (int k : blockers) {
-        const auto t = g.surface(k).round_tube();
-        if (!t || !(t->base == tube->base && t->axis == tube->axis && t->length == tube->length &&
-                    t->radius == tube->radius))
-            return std::nullopt;
+        const auto t = g.surface(k).round_frustum();
+        if (!t || !same_tube(*t, *tube)) return std::nullopt;
     }
     const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
     const Vec3 p = si.point(sm, tm), off = p - tube->base - glm::dot(p - tube->base, tube->axis) * tube->axis;
@@ -412,8 +414,10 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
         // both planes, by more than rounding at the scene's scale: the tube's outline.
         const double margin = 1e-9 * g.scale();
         const auto source = g.surface(pi.surface).plane();
-        if (column_spans_pair(g.front_polygon(i), g.front_polygon(j), *t, margin)) {
-            how.column = t;
+        if (const RoundTube c{t->base, t->axis, t->length, t->radius};
+            t->top_radius == t->radius &&
+            column_spans_pair(g.front_polygon(i), g.front_polygon(j), c, margin)) {
+            how.column = c;
             return how;
         }
         if (source && tube_min_signed_distance(*t, plane->normal, plane->offset) > margin &&

@@ -30,13 +30,13 @@ struct PlanarReceiver {
     // One round tube spanning the pair (formfactor/column_shadow.h): a column from floor to
     // ceiling between two walls; its shadow is a polygon.
     std::optional<RoundTube> column;
-    // One whole round tube, wholly in front of both polygons' planes, that does not span them:
-    // its shadow is in closed form too (formfactor/tube_shadow.h).
-    std::optional<RoundTube> tube;
+    // One whole round tube (a cylinder that does not span them, or a truncated cone), wholly in
+    // front of both polygons' planes: its shadow is in closed form too (formfactor/tube_shadow.h).
+    std::optional<RoundFrustum> tube;
     // Patch i lies on the inside of this whole round tube, and the tube is all that may block:
     // from inside, the polygon is seen through the tube's two open ends, each a disk whose
     // cone cuts the polygon in closed form (formfactor/disk_shadow.h).
-    std::optional<RoundTube> ends;
+    std::optional<RoundFrustum> ends;
 };
 
 // At most this many balls between a pair.

@@ -38,6 +38,11 @@ public:
         if (m_r0 != m_r1 || !m_angles.full()) return std::nullopt;
         return RoundTube{m_base, m_frame.axis, m_length, m_r0};
     }
+    // Every whole one.
+    std::optional<RoundFrustum> round_frustum() const override {
+        if (!m_angles.full()) return std::nullopt;
+        return RoundFrustum{m_base, m_frame.axis, m_length, m_r0, m_r1};
+    }
     // Exact about the surface's own axis (the rectangle's larger radius).
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override;

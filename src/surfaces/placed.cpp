@@ -115,6 +115,17 @@ std::optional<RoundTube> PlacedSurface::round_tube() const {
     return t;
 }
 
+std::optional<RoundFrustum> PlacedSurface::round_frustum() const {
+    auto t = m_inner->round_frustum();
+    if (!t) return std::nullopt;
+    t->base = m_xf.apply(t->base);
+    t->axis = m_xf.rotate * t->axis;
+    t->length *= m_xf.scale;
+    t->radius *= m_xf.scale;
+    t->top_radius *= m_xf.scale;
+    return t;
+}
+
 void PlacedSurface::write_key(ByteWriter& w) const {
     m_inner->write_key(w);
     w.f64(m_xf.scale);

@@ -53,6 +53,18 @@ struct RoundTube {
     double length = 0.0, radius = 0.0;
 };
 
+// A whole round truncated cone or cylinder, open at both ends: radius `radius` at `base`,
+// `top_radius` at base + length axis (unit axis), linear in between; top_radius 0 is a cone
+// to its apex.
+struct RoundFrustum {
+    Vec3 base{0.0};
+    Vec3 axis{0.0, 0.0, 1.0};
+    double length = 0.0, radius = 0.0, top_radius = 0.0;
+    // The radius of the surface's plane section at height h along the axis (any h: the
+    // infinite cone's, negative beyond its apex).
+    double radius_at(double h) const { return radius + (top_radius - radius) * (h / length); }
+};
+
 // A piece of a patch's boundary: the segment from a to b, or the arc
 // center + radius (cos u e1 + sin u e2) for u running from `from` to `to` (either order).
 struct ContourPiece {
@@ -165,6 +177,9 @@ public:
     // The whole surface as a round tube (every angle), if it is one: between its end planes
     // it blocks what the infinite cylinder blocks (formfactor/column_shadow.h).
     virtual std::optional<RoundTube> round_tube() const { return std::nullopt; }
+    // The whole surface as a round cylinder or truncated cone (every angle), if it is one: what
+    // it hides of a polygon seen from a point is in closed form (formfactor/tube_shadow.h).
+    virtual std::optional<RoundFrustum> round_frustum() const { return std::nullopt; }
     // The largest distance of a point of the parameter rectangle from the line through p along
     // the unit vector u: exact where the line is the surface's own axis and for polygon patches;
     // this default, from bound(), may be larger but never smaller.
