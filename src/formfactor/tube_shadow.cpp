@@ -256,15 +256,16 @@ TubeShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, co
     const double phi = view.phi, beta = view.beta;
     Outline hull, lens;
     if (view.between) {
-        // Between the end planes: the front half (x outside the cylinder, else x is in the solid).
+        // Between the end planes: the front part (x outside the solid's section at its height,
+        // else x is in the solid).
         if (!view.outside) return {};
         hull.arc(rims, 0, phi - beta, phi + beta);
         hull.segment(rims[0].at(phi + beta), rims[1].at(phi + beta));
         hull.arc(rims, 1, phi + beta, phi - beta);
         hull.segment(rims[1].at(phi - beta), rims[0].at(phi - beta));
     } else if (view.holds) {
-        // One rim's cone holds the other's (x within the cylinder): that rim's disk, minus the
-        // other's seen through it.
+        // One rim's cone holds the other's (for a cylinder: x within it): that rim's disk, minus
+        // the other's seen through it.
         const int outer = view.holds == 1 ? view.near : 1 - view.near;
         hull.arc(rims, outer, 0.0, 2.0 * kPi);
         lens.arc(rims, 1 - outer, 0.0, 2.0 * kPi);
