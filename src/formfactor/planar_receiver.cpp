@@ -347,10 +347,10 @@ std::optional<RoundFrustum> one_tube_between(const SceneGeometry& g, int i, int 
     return tube;
 }
 
-// The whole round tube that patch i lies inside of, when that tube (either side) is every
-// blocker and both its ends lie wholly in front of the receiver's plane: from inside, i sees
-// the receiver through the ends and nothing else (a segment from the tube's inside to a point
-// of either end stays in its solid cylinder).
+// The whole round tube or cone that patch i lies inside of, when that surface (either side) is
+// every blocker and both its ends lie wholly in front of the receiver's plane: from inside, i
+// sees the receiver through the ends and nothing else (a segment from the inside to a point of
+// either end stays in the solid).
 std::optional<RoundFrustum> tube_around(const SceneGeometry& g, int i, const Plane& receiver,
                                         const std::vector<int>& blockers) {
     const Patch& pi = g.patch(i);

@@ -17,6 +17,7 @@
 // (point_polygon.h): Lambert's term on straight pieces, the closed-form arc integral on rim arcs
 // (circle_arc.h). The integral does not change when a piece moves along rays from x, so the cut
 // pieces are chords between the points where the outline crosses the cutting planes.
+#include <array>
 #include <span>
 
 #include "surfaces/surface.h"
@@ -31,7 +32,7 @@ struct TubeShadowValue {
 
 // The part of point_to_polygon(x, n, v, count, nullptr) that the tube hides. The tube must lie
 // wholly on the polygon's front side (then every direction to it meets the tube before the
-// polygon's plane) and x outside its solid cylinder; the polygon is planar and convex,
+// polygon's plane) and x outside its solid; the polygon is planar and convex,
 // counter-clockwise about its front normal, with at most 16 vertices.
 TubeShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                                                 const RoundFrustum& tube);
@@ -44,8 +45,8 @@ double tube_min_signed_distance(const RoundFrustum& tube, const Vec3& m, double 
 // search's "may a segment in this hull meet the tube?".
 bool hull_meets_tube(std::span<const Vec3> points, const RoundFrustum& tube);
 
-// The tube's two rims as flat disks (base first) (the shadow's outline bends where a rim passes a corner of
-// the polygon or touches an edge's plane: formfactor/events.h).
+// The tube's two rims as flat disks, the base's first (the shadow's outline bends where a rim
+// passes a corner of the polygon or touches an edge's plane: formfactor/events.h).
 std::array<FlatDisk, 2> tube_rims(const RoundFrustum& tube);
 
 }  // namespace radiosa
