@@ -102,8 +102,8 @@ public:
     // surface (along the axis for a cylinder, through the apex for a cone).
     void add_tube(const std::array<Vec3, 4>& v, const RoundFrustum& t) {
         for (const FlatDisk& rim : tube_rims(t)) add_disk(v, rim);
-        if (t.top_radius == t.radius) {
-            add_column(v, RoundTube{t.base, t.axis, t.length, t.radius});
+        if (const auto column = t.column()) {
+            add_column(v, *column);
             return;
         }
         // Planes through the apex tangent to the cone touch its wider rim.

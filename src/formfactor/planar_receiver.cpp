@@ -414,10 +414,9 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
         // both planes, by more than rounding at the scene's scale: the tube's outline.
         const double margin = 1e-9 * g.scale();
         const auto source = g.surface(pi.surface).plane();
-        if (const RoundTube c{t->base, t->axis, t->length, t->radius};
-            t->top_radius == t->radius &&
-            column_spans_pair(g.front_polygon(i), g.front_polygon(j), c, margin)) {
-            how.column = c;
+        if (const auto c = t->column();
+            c && column_spans_pair(g.front_polygon(i), g.front_polygon(j), *c, margin)) {
+            how.column = *c;
             return how;
         }
         if (source && tube_min_signed_distance(*t, plane->normal, plane->offset) > margin &&

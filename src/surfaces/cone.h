@@ -33,11 +33,6 @@ public:
                        std::vector<ContourPiece>* out) const override;
     // Cylinders only: the infinite cylinder.
     std::optional<ConvexSolid> convex_solid() const override;
-    // Whole cylinders only.
-    std::optional<RoundTube> round_tube() const override {
-        if (m_r0 != m_r1 || !m_angles.full()) return std::nullopt;
-        return RoundTube{m_base, m_frame.axis, m_length, m_r0};
-    }
     // Every whole one.
     std::optional<RoundFrustum> round_frustum() const override {
         if (!m_angles.full()) return std::nullopt;

@@ -105,16 +105,6 @@ std::optional<FlatDisk> PlacedSurface::flat_disk() const {
     return d;
 }
 
-std::optional<RoundTube> PlacedSurface::round_tube() const {
-    auto t = m_inner->round_tube();
-    if (!t) return std::nullopt;
-    t->base = m_xf.apply(t->base);
-    t->axis = m_xf.rotate * t->axis;
-    t->length *= m_xf.scale;
-    t->radius *= m_xf.scale;
-    return t;
-}
-
 std::optional<RoundFrustum> PlacedSurface::round_frustum() const {
     auto t = m_inner->round_frustum();
     if (!t) return std::nullopt;

@@ -69,7 +69,6 @@ public:
                        std::vector<ContourPiece>* out) const override;
     std::optional<ConvexSolid> convex_solid() const override;
     std::optional<FlatDisk> flat_disk() const override;
-    std::optional<RoundTube> round_tube() const override;
     std::optional<RoundFrustum> round_frustum() const override;
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override {

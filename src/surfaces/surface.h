@@ -63,6 +63,12 @@ struct RoundFrustum {
     // The radius of the surface's plane section at height h along the axis (any h: the
     // infinite cone's, negative beyond its apex).
     double radius_at(double h) const { return radius + (top_radius - radius) * (h / length); }
+    // A cylinder as a round tube (between its end planes it blocks what the infinite cylinder
+    // blocks: formfactor/column_shadow.h); nothing for a cone.
+    std::optional<RoundTube> column() const {
+        if (top_radius != radius) return std::nullopt;
+        return RoundTube{base, axis, length, radius};
+    }
 };
 
 // A piece of a patch's boundary: the segment from a to b, or the arc
@@ -174,9 +180,6 @@ public:
     // The whole surface as a flat disk or annulus (every angle), if it is one: its shadow seen
     // from a point is the cone over its rims (formfactor/disk_shadow.h).
     virtual std::optional<FlatDisk> flat_disk() const { return std::nullopt; }
-    // The whole surface as a round tube (every angle), if it is one: between its end planes
-    // it blocks what the infinite cylinder blocks (formfactor/column_shadow.h).
-    virtual std::optional<RoundTube> round_tube() const { return std::nullopt; }
     // The whole surface as a round cylinder or truncated cone (every angle), if it is one: what
     // it hides of a polygon seen from a point is in closed form (formfactor/tube_shadow.h).
     virtual std::optional<RoundFrustum> round_frustum() const { return std::nullopt; }
