@@ -87,8 +87,8 @@ bool hull_meets_disk(std::span<const Vec3> points, const FlatDisk& disk) {
     return convex_distance(std::span<const Vec3>(slice.data(), n), c, disk.radius) <= disk.radius;
 }
 
-DiskShadowValue point_to_polygon_hidden_by_disk(const Vec3& x, const Vec3& n, const Vec3* v, int count,
-                                                const FlatDisk& disk) {
+ShadowValue point_to_polygon_hidden_by_disk(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                            const FlatDisk& disk) {
     if (count < 3 || count > 16 || !(disk.radius > disk.inner_radius)) return {};
     PolygonCone cone;
     if (!polygon_cone(x, n, v, count, &cone)) return {};

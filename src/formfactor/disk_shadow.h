@@ -10,22 +10,18 @@
 // (circle_arc.h). An annulus is its outer disk minus its hole.
 #include <span>
 
+#include "formfactor/polygon_cone.h"
 #include "surfaces/surface.h"
 #include "util/math.h"
 
 namespace radiosa {
 
-struct DiskShadowValue {
-    double value = 0.0;  // form factor hidden, in [0, the unblocked point_to_polygon]
-    double error = 0.0;  // the rim arcs' quadrature, where they took it
-};
-
 // The part of point_to_polygon(x, n, v, count, nullptr) that the disk hides. The disk must lie
 // wholly on the polygon's front side and in x's front half-space n . (y - x) > 0 (then every
 // direction to it meets the disk before the polygon's plane); the polygon is planar and convex,
 // counter-clockwise about its front normal, with at most 16 vertices.
-DiskShadowValue point_to_polygon_hidden_by_disk(const Vec3& x, const Vec3& n, const Vec3* v, int count,
-                                                const FlatDisk& disk);
+ShadowValue point_to_polygon_hidden_by_disk(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                            const FlatDisk& disk);
 
 // The least signed distance of the disk's points from the plane (unit normal m, offset o):
 // m . center - o - radius sqrt(1 - (m . normal)^2).

@@ -39,11 +39,11 @@ TEST(DiskShadow, ACoaxialDiskHidesItsOwnFormFactor) {
     const Vec3 x(0.0), up(0, 0, 1);
     const auto f = [](double r, double h) { return r * r / (r * r + h * h); };
     for (const double nz : {1.0, -1.0}) {
-        const DiskShadowValue d =
+        const ShadowValue d =
             point_to_polygon_hidden_by_disk(x, up, v.data(), 4, {Vec3(0, 0, 0.7), Vec3(0, 0, nz), 0.4, 0.0});
         EXPECT_NEAR(d.value, f(0.4, 0.7), 1e-14);
         EXPECT_LE(d.error, 1e-13);
-        const DiskShadowValue ring =
+        const ShadowValue ring =
             point_to_polygon_hidden_by_disk(x, up, v.data(), 4, {Vec3(0, 0, 0.7), Vec3(0, 0, nz), 0.4, 0.15});
         EXPECT_NEAR(ring.value, f(0.4, 0.7) - f(0.15, 0.7), 1e-14);
     }

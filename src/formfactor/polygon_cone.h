@@ -2,7 +2,7 @@
 // The cone of directions from a point x to the part of a convex polygon in front of x's
 // tangent plane, as the planes through x and that part's edges, and Lambert's term of a
 // straight piece of a contour: what the closed-form shadows (disk_shadow.cpp, tube_shadow.cpp)
-// cut their outlines with and integrate their chords by.
+// cut their outlines with and integrate their chords by, and the value they return.
 #include <array>
 #include <cmath>
 
@@ -10,6 +10,12 @@
 #include "util/math.h"
 
 namespace radiosa {
+
+// What a closed-form shadow hides of a polygon seen from a point.
+struct ShadowValue {
+    double value = 0.0;  // form factor hidden, in [0, the unblocked point_to_polygon]
+    double error = 0.0;  // the rim arcs' quadrature, where they took it
+};
 
 struct PolygonCone {
     static constexpr int kMaxEdges = 20;  // a polygon of up to 16 vertices, cut by x's horizon

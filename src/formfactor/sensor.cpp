@@ -156,7 +156,7 @@ std::optional<ContourValue> by_shadow(const SceneGeometry& g, const Vec3& x, con
     if (!(disk_min_signed_distance(*disk, plane->normal, plane->offset) > margin) ||
         !(disk_min_signed_distance(*disk, n, glm::dot(n, x)) > margin))
         return std::nullopt;
-    const DiskShadowValue hidden = point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *disk);
+    const ShadowValue hidden = point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *disk);
     c.value = std::max(0.0, point_to_polygon(x, n, v.data(), 4, nullptr) - hidden.value);
     c.error += hidden.error;
     return c;

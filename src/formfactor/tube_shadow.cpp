@@ -118,8 +118,8 @@ ContourValue integrate(const Outline& o, const Vec3& x, const Vec3& n, const std
 }
 
 // The form factor of the outline's part inside the polygon's cone.
-TubeShadowValue inside_cone(Outline o, const PolygonCone& cone, const Vec3& x, const Vec3& n,
-                            const std::array<Circle, 2>& rims) {
+ShadowValue inside_cone(Outline o, const PolygonCone& cone, const Vec3& x, const Vec3& n,
+                        const std::array<Circle, 2>& rims) {
     for (int k = 0; k < cone.count && o.n > 0; ++k) o = cut(o, cone.f[static_cast<std::size_t>(k)], x, rims);
     if (o.n == 0) return {};
     const ContourValue c = integrate(o, x, n, rims);
@@ -236,8 +236,8 @@ bool hull_meets_tube(std::span<const Vec3> points, const RoundFrustum& tube) {
     return convex_distance(std::span<const Vec3>(slice.data(), n), c, r) <= r;
 }
 
-TubeShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const Vec3* v, int count,
-                                                const RoundFrustum& tube) {
+ShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                            const RoundFrustum& tube) {
     if (count < 3 || count > 16 || !(tube.radius >= 0.0) || !(tube.top_radius >= 0.0) ||
         !(tube.radius + tube.top_radius > 0.0) || !(tube.length > 0.0))
         return {};
@@ -280,9 +280,9 @@ TubeShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, co
             lens.arc(rims, far, phi + kPi - view.lens_far, phi + kPi + view.lens_far);
         }
     }
-    TubeShadowValue out = inside_cone(hull, cone, x, n, rims);
+    ShadowValue out = inside_cone(hull, cone, x, n, rims);
     if (lens.n > 0) {
-        const TubeShadowValue through = inside_cone(lens, cone, x, n, rims);
+        const ShadowValue through = inside_cone(lens, cone, x, n, rims);
         out.value -= through.value;
         out.error += through.error;
     }

@@ -20,22 +20,18 @@
 #include <array>
 #include <span>
 
+#include "formfactor/polygon_cone.h"
 #include "surfaces/surface.h"
 #include "util/math.h"
 
 namespace radiosa {
 
-struct TubeShadowValue {
-    double value = 0.0;  // form factor hidden, in [0, the unblocked point_to_polygon]
-    double error = 0.0;  // the rim arcs' quadrature, where they took it
-};
-
 // The part of point_to_polygon(x, n, v, count, nullptr) that the tube hides. The tube must lie
 // wholly on the polygon's front side (then every direction to it meets the tube before the
 // polygon's plane) and x outside its solid; the polygon is planar and convex,
 // counter-clockwise about its front normal, with at most 16 vertices.
-TubeShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const Vec3* v, int count,
-                                                const RoundFrustum& tube);
+ShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                            const RoundFrustum& tube);
 
 // The least signed distance of the tube's points from the plane (unit normal m, offset o): the
 // least of its two rims'.

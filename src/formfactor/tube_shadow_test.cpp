@@ -100,7 +100,7 @@ TEST(TubeShadow, FromUnderEitherEndTheNearDiskMinusTheFarOne) {
                     const double disks =
                         std::abs(point_to_polygon_hidden_by_disk(x, n, v.data(), 4, rims[0]).value -
                                  point_to_polygon_hidden_by_disk(x, n, v.data(), 4, rims[1]).value);
-                    const TubeShadowValue t = point_to_polygon_hidden_by_tube(x, n, v.data(), 4, tube);
+                    const ShadowValue t = point_to_polygon_hidden_by_tube(x, n, v.data(), 4, tube);
                     EXPECT_NEAR(t.value, disks, 1e-13)
                         << tube.top_radius << ": " << x.x << "," << x.y << "," << x.z;
                     EXPECT_GT(t.value, 1e-3);
