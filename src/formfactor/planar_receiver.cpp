@@ -63,6 +63,114 @@ private:
     std::array<double, 4> m_offset{};  // a . c + R^2: the corner on x's horizon
 };
 
+// The receiver's front normal, times twice its area.
+Vec3 doubled_normal(const std::array<Vec3, 4>& v) {
+    return glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]);
+}
+
+// A region much larger than its distance to the receiver v may hide a near-singularity
+// between its Gauss nodes (patches a hair apart): split it along the direction in which that
+// distance changes most, until it is no larger than the distance. Touching patches
+// (distance 0) are left to the error estimate: their integrand is bounded.
+Cut split_near(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v) {
+    const Vec3 c00 = si.point(r.s0, r.t0), c10 = si.point(r.s1, r.t0), c01 = si.point(r.s0, r.t1),
+               c11 = si.point(r.s1, r.t1);
+    const double d00 = distance_to_polygon(c00, v), d10 = distance_to_polygon(c10, v),
+                 d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
+    const double dmin = std::min({d00, d10, d01, d11});
+    if (!(dmin > 0.0)) return Cut{};
+    const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01),
+                 var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
+    const int dir = var_t > var_s ? 1 : 0;
+    const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
+                                 : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
+    return Cut{size > dmin ? dir : -1};
+}
+
+// Where the semi path's cubature over patch i splits a region, and which regions take the kink
+// check: the events where the inner integral over the receiver v (closed form) bends.
+class SemiRefinement {
+public:
+    SemiRefinement(const Surface& si, const Patch& pi, const std::array<Vec3, 4>& v, double area_v,
+                   const PlanarReceiver& shadow)
+        : m_si(si),
+          m_pi(pi),
+          m_v(v),
+          m_shadow(shadow),
+          m_ends(shadow.ends.has_value()),
+          m_sliver_bound(si, pi, v, doubled_normal(v), area_v) {
+        if (!pi.polygon) {
+            m_events.add_horizons(v);
+            // Points of a curved patch may pass behind the receiver's plane.
+            m_events.add_plane(doubled_normal(v), v[0]);
+        }
+        for (const BoundingSphere& ball : shadow.spheres) m_events.add_sphere(v, ball);
+        m_events.add_flats(v, shadow.flats);
+        if (shadow.disk) m_events.add_disk(v, *shadow.disk);
+        if (shadow.ends)
+            for (const FlatDisk& rim : tube_rims(*shadow.ends)) m_events.add_disk(v, rim);
+    }
+
+    Cut cut(const Rect& r, double fine) const {
+        // A shadow's edge makes the integrand only once differentiable where it sweeps
+        // across the patch; nested estimates on the whole patch can miss that, so shadowed
+        // pairs start from quarters.
+        if (!m_shadow.spheres.empty() || !m_shadow.flats.empty() || m_shadow.disk || m_ends) {
+            if (const Cut c = quarter_of(Rect{m_pi.s0, m_pi.s1, m_pi.t0, m_pi.t1}, r); c.dir >= 0) return c;
+        }
+        if (const Cut c = m_events.cut_along(m_si, r); c.dir >= 0) return c;
+        // Every node of the region sees nothing, yet an event crosses it: a sliver of it sees
+        // the receiver past a horizon (the top of a sphere grazing a long floor). Split it
+        // until its nodes find the sliver, down to 1e-6 of the patch. Not under a sphere's
+        // shadow: its event crosses the shadowed regions, whose nodes all see nothing, and
+        // the search split each of them to the cap (a ball's patches toward the walls past
+        // the seed room's sphere: 4,096 regions a pair, 30 s instead of 3.5 s for the room,
+        // entries moving by 8e-8 at tolerance 1e-6); the kink test below still refines
+        // where a shadow's edge crosses.
+        // On a sphere, what the sliver can be worth is bounded (SliverBound): the region
+        // is then refined like any other, by its share of the error, and the search ends
+        // when the bounds are small enough instead of at the cap. Nor under a disk's shadow
+        // or through a tube's ends, for the same reason.
+        if (fine == 0.0 && m_shadow.spheres.empty() && !m_shadow.disk && !m_ends && !m_events.empty() &&
+            m_events.crosses(m_si, r)) {
+            const double ls = glm::length(m_si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
+                                          m_si.point(r.s0, 0.5 * (r.t0 + r.t1))),
+                         lt = glm::length(m_si.point(0.5 * (r.s0 + r.s1), r.t1) -
+                                          m_si.point(0.5 * (r.s0 + r.s1), r.t0));
+            const int dir = m_events.split_toward(m_si, r, ls >= lt ? 0 : 1);
+            const double bound = m_sliver_bound(r);
+            if (std::isfinite(bound)) {
+                const Cut near = split_near(m_si, r, m_v);
+                return near.dir >= 0 ? near : Cut{dir, std::numeric_limits<double>::quiet_NaN(), bound};
+            }
+            if (std::max((r.s1 - r.s0) / (m_pi.s1 - m_pi.s0), (r.t1 - r.t0) / (m_pi.t1 - m_pi.t0)) > 1e-6)
+                return Cut{dir};
+        }
+        return split_near(m_si, r, m_v);
+    }
+
+    // On a curved patch the events are x's horizon passing the receiver's corners: past one,
+    // a sliver of the region sees a corner of j that its nodes do not, whatever the region's
+    // value (a ball's patch beside a wall gave 7.8e-12 for 3.4e-10, estimate 3.1e-11; and
+    // 3.6e-7 off with an estimate of 1.4e-7 where a kink fraction had skipped the check).
+    // Every region one crosses takes the 3 x 3 check: about 15 % more time on the seed scene,
+    // the same regions and values. A shadow's outline costs at most its kink fraction.
+    double suspect(const Rect& r) const {
+        if (!m_events.crosses(m_si, r)) return 0.0;
+        if (!m_pi.polygon) return kCheckRegion;
+        return m_shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
+    }
+
+private:
+    const Surface& m_si;
+    const Patch& m_pi;
+    const std::array<Vec3, 4>& m_v;
+    const PlanarReceiver& m_shadow;
+    bool m_ends;  // patch i inside a tube, seeing the receiver through its ends
+    SliverBound m_sliver_bound;
+    EventSet m_events;
+};
+
 // The outer integrals of the planar-receiver path, over patch i of the geometry.
 class PlanarIntegrator {
 public:
@@ -95,70 +203,12 @@ public:
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) -
                          hidden_past_first_ball(x, nrm / da, v, shadow));
         };
-        // The receiver's front normal, times twice its area.
-        const Vec3 v_normal = glm::cross(v[1] - v[0], v[2] - v[0]) + glm::cross(v[2] - v[0], v[3] - v[0]);
-        EventSet events;
-        if (!pi.polygon) {
-            events.add_horizons(v);
-            // Points of a curved patch may pass behind the receiver's plane.
-            events.add_plane(v_normal, v[0]);
-        }
-        const SliverBound sliver_bound(si, pi, v, v_normal, m_geo.patch(j).area);
-        for (const BoundingSphere& ball : shadow.spheres) events.add_sphere(v, ball);
-        events.add_flats(v, shadow.flats);
-        if (shadow.disk) events.add_disk(v, *shadow.disk);
-        if (ends)
-            for (const FlatDisk& rim : *ends) events.add_disk(v, rim);
-        auto geometric = [&](const Rect& r, double fine) {
-            // A shadow's edge makes the integrand only once differentiable where it sweeps
-            // across the patch; nested estimates on the whole patch can miss that, so shadowed
-            // pairs start from quarters.
-            if (b || !shadow.flats.empty() || shadow.disk || ends) {
-                if (const Cut c = quarter_of(Rect{pi.s0, pi.s1, pi.t0, pi.t1}, r); c.dir >= 0) return c;
-            }
-            if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
-            // Every node of the region sees nothing, yet an event crosses it: a sliver of it sees
-            // the receiver past a horizon (the top of a sphere grazing a long floor). Split it
-            // until its nodes find the sliver, down to 1e-6 of the patch. Not under a sphere's
-            // shadow: its event crosses the shadowed regions, whose nodes all see nothing, and
-            // the search split each of them to the cap (a ball's patches toward the walls past
-            // the seed room's sphere: 4,096 regions a pair, 30 s instead of 3.5 s for the room,
-            // entries moving by 8e-8 at tolerance 1e-6); the kink test below still refines
-            // where a shadow's edge crosses.
-            // On a sphere, what the sliver can be worth is bounded (sliver_bound): the region
-            // is then refined like any other, by its share of the error, and the search ends
-            // when the bounds are small enough instead of at the cap. Nor under a disk's shadow
-            // or through a tube's ends, for the same reason.
-            if (fine == 0.0 && !b && !shadow.disk && !ends && !events.empty() && events.crosses(si, r)) {
-                const double ls = glm::length(si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
-                                              si.point(r.s0, 0.5 * (r.t0 + r.t1))),
-                             lt = glm::length(si.point(0.5 * (r.s0 + r.s1), r.t1) -
-                                              si.point(0.5 * (r.s0 + r.s1), r.t0));
-                const int dir = events.split_toward(si, r, ls >= lt ? 0 : 1);
-                const double bound = sliver_bound(r);
-                if (std::isfinite(bound)) {
-                    const Cut near = split_near(si, r, v);
-                    return near.dir >= 0 ? near : Cut{dir, std::numeric_limits<double>::quiet_NaN(), bound};
-                }
-                if (std::max((r.s1 - r.s0) / (pi.s1 - pi.s0), (r.t1 - r.t0) / (pi.t1 - pi.t0)) > 1e-6)
-                    return Cut{dir};
-            }
-            return split_near(si, r, v);
-        };
+        const SemiRefinement refine(si, pi, v, m_geo.patch(j).area, shadow);
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area);
-        // On a curved patch the events are x's horizon passing the receiver's corners: past one,
-        // a sliver of the region sees a corner of j that its nodes do not, whatever the region's
-        // value (a ball's patch beside a wall gave 7.8e-12 for 3.4e-10, estimate 3.1e-11; and
-        // 3.6e-7 off with an estimate of 1.4e-7 where a kink fraction had skipped the check).
-        // Every region one crosses takes the 3 x 3 check: about 15 % more time on the seed scene,
-        // the same regions and values. A shadow's outline costs at most its kink fraction.
-        auto suspect = [&](const Rect& r, double) {
-            if (!events.crosses(si, r)) return 0.0;
-            if (!pi.polygon) return kCheckRegion;
-            return shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
-        };
-        return adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
-                             geometric, suspect);
+        return adaptive_rect(
+            g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
+            [&](const Rect& r, double fine) { return refine.cut(r, fine); },
+            [&](const Rect& r, double) { return refine.suspect(r); });
     }
 
     // What the occluders other than the first ball hide of the polygon v from x (the first
@@ -171,25 +221,6 @@ public:
         for (std::size_t k = 1; k < shadow.spheres.size(); ++k)
             hidden += point_to_polygon_blocked(x, n, v.data(), 4, shadow.spheres[k]);
         return hidden;
-    }
-
-    // A region much larger than its distance to the receiver v may hide a near-singularity
-    // between its Gauss nodes (patches a hair apart): split it along the direction in which that
-    // distance changes most, until it is no larger than the distance. Touching patches
-    // (distance 0) are left to the error estimate: their integrand is bounded.
-    static Cut split_near(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v) {
-        const Vec3 c00 = si.point(r.s0, r.t0), c10 = si.point(r.s1, r.t0), c01 = si.point(r.s0, r.t1),
-                   c11 = si.point(r.s1, r.t1);
-        const double d00 = distance_to_polygon(c00, v), d10 = distance_to_polygon(c10, v),
-                     d01 = distance_to_polygon(c01, v), d11 = distance_to_polygon(c11, v);
-        const double dmin = std::min({d00, d10, d01, d11});
-        if (!(dmin > 0.0)) return Cut{};
-        const double var_s = std::abs(d10 - d00) + std::abs(d11 - d01),
-                     var_t = std::abs(d01 - d00) + std::abs(d11 - d10);
-        const int dir = var_t > var_s ? 1 : 0;
-        const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
-                                     : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
-        return Cut{size > dmin ? dir : -1};
     }
 
     // A_i F_ij for two polygons with a sphere or flat quads between them: the unblocked
