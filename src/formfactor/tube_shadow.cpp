@@ -6,6 +6,7 @@
 
 #include "formfactor/circle_arc.h"
 #include "formfactor/disk_shadow.h"
+#include "formfactor/outline.h"
 #include "formfactor/point_polygon.h"
 #include "formfactor/polygon_cone.h"
 #include "util/convex_distance.h"
@@ -13,118 +14,6 @@
 namespace radiosa {
 
 namespace {
-
-// A piece of an outline: the segment a -> b, or the arc of rim `rim` from angle `from` to `to`
-// (either order), whose ends are a and b.
-struct Piece {
-    Vec3 a{0.0}, b{0.0};
-    int rim = -1;  // -1: a segment
-    double from = 0.0, to = 0.0;
-};
-
-// A closed outline, convex on the sphere of directions from x. Each cut by a plane through x
-// adds at most a chord and splits at most one arc in two.
-struct Outline {
-    static constexpr int kMax = 4 + 3 * PolygonCone::kMaxEdges;
-    std::array<Piece, kMax> p{};
-    int n = 0;
-    bool full() const { return n >= kMax; }
-    void add(const Piece& q) {
-        if (!full()) p[static_cast<std::size_t>(n++)] = q;
-    }
-    void arc(const std::array<Circle, 2>& rims, int rim, double from, double to) {
-        add({rims[static_cast<std::size_t>(rim)].at(from), rims[static_cast<std::size_t>(rim)].at(to), rim,
-             from, to});
-    }
-    void segment(const Vec3& a, const Vec3& b) { add({a, b, -1, 0.0, 0.0}); }
-};
-
-// The part of the outline where f . (y - x) >= 0: each piece's part on that side, and a chord
-// wherever the outline left it and came back (both ends on the plane through x).
-Outline cut(const Outline& in, const Vec3& f, const Vec3& x, const std::array<Circle, 2>& rims) {
-    Outline kept;
-    for (int k = 0; k < in.n; ++k) {
-        const Piece& q = in.p[static_cast<std::size_t>(k)];
-        if (q.rim < 0) {
-            const double da = glm::dot(f, q.a - x), db = glm::dot(f, q.b - x);
-            if (da >= 0.0 && db >= 0.0) {
-                kept.add(q);
-            } else if (da >= 0.0 || db >= 0.0) {
-                const Vec3 m = q.a + (q.b - q.a) * (da / (da - db));
-                kept.segment(da >= 0.0 ? q.a : m, da >= 0.0 ? m : q.b);
-            }
-            continue;
-        }
-        // Along the rim, f . (y - x) = C + P cos u + Q sin u: zero at psi +- delta.
-        const Circle& c = rims[static_cast<std::size_t>(q.rim)];
-        const double C = glm::dot(f, c.c - x), P = c.rho * glm::dot(f, c.e1), Q = c.rho * glm::dot(f, c.e2);
-        const double R = std::hypot(P, Q);
-        std::array<double, 6> at{};  // the arc's parameter (0 at `from`, 1 at `to`) of its cuts
-        int na = 0;
-        const double span = q.to - q.from;
-        if (R > std::abs(C) && span != 0.0) {
-            const double psi = std::atan2(Q, P), delta = std::acos(-C / R);
-            for (const double root : {psi - delta, psi + delta})
-                for (int turn = -2; turn <= 2; ++turn) {
-                    const double u = (root + 2.0 * kPi * turn - q.from) / span;
-                    if (u > 0.0 && u < 1.0 && na < static_cast<int>(at.size()))
-                        at[static_cast<std::size_t>(na++)] = u;
-                }
-        }
-        for (int s = 1; s < na; ++s)  // at most six: insertion
-            for (int k2 = s;
-                 k2 > 0 && at[static_cast<std::size_t>(k2)] < at[static_cast<std::size_t>(k2 - 1)]; --k2)
-                std::swap(at[static_cast<std::size_t>(k2)], at[static_cast<std::size_t>(k2 - 1)]);
-        double u0 = 0.0;
-        for (int s = 0; s <= na; ++s) {
-            const double u1 = s < na ? at[static_cast<std::size_t>(s)] : 1.0;
-            const double mid = q.from + 0.5 * (u0 + u1) * span;
-            if (u1 > u0 && C + P * std::cos(mid) + Q * std::sin(mid) >= 0.0)
-                kept.arc(rims, q.rim, q.from + u0 * span, s < na ? q.from + u1 * span : q.to);
-            u0 = u1;
-        }
-    }
-    Outline out;
-    for (int k = 0; k < kept.n; ++k) {
-        const Piece& q = kept.p[static_cast<std::size_t>(k)];
-        out.add(q);
-        const Vec3& next = kept.p[static_cast<std::size_t>((k + 1) % kept.n)].a;
-        if (q.b != next) out.segment(q.b, next);
-    }
-    return out;
-}
-
-// The contour integral of n . (r x dr) / |r|^2 around the outline, up to its orientation.
-ContourValue integrate(const Outline& o, const Vec3& x, const Vec3& n, const std::array<Circle, 2>& rims) {
-    ContourValue out;
-    constexpr double kArcTol = 1e-14;
-    for (int k = 0; k < o.n; ++k) {
-        const Piece& q = o.p[static_cast<std::size_t>(k)];
-        if (q.rim < 0) {
-            out.value += segment_term(x, n, q.a, q.b);
-            continue;
-        }
-        if (q.from == q.to) continue;
-        const Circle& c = rims[static_cast<std::size_t>(q.rim)];
-        double lo = std::min(q.from, q.to), hi = std::max(q.from, q.to);
-        const double turns = std::floor((lo + kPi) / (2.0 * kPi));  // lo into [-pi, pi)
-        lo -= 2.0 * kPi * turns;
-        hi -= 2.0 * kPi * turns;
-        const ContourValue v = circle_arc_integral(c, x, n, c.nearest_angle(x), lo, hi, kArcTol);
-        out.value += q.to > q.from ? v.value : -v.value;
-        out.error += v.error;
-    }
-    return out;
-}
-
-// The form factor of the outline's part inside the polygon's cone.
-ShadowValue inside_cone(Outline o, const PolygonCone& cone, const Vec3& x, const Vec3& n,
-                        const std::array<Circle, 2>& rims) {
-    for (int k = 0; k < cone.count && o.n > 0; ++k) o = cut(o, cone.f[static_cast<std::size_t>(k)], x, rims);
-    if (o.n == 0) return {};
-    const ContourValue c = integrate(o, x, n, rims);
-    return {std::abs(c.value) / (2.0 * kPi), c.error / (2.0 * kPi)};
-}
 
 // The unit vector across the axis from which the rims' angles count (the second is axis x e1).
 Vec3 tube_e1(const RoundFrustum& tube) {
@@ -280,9 +169,9 @@ ShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const 
             lens.arc(rims, far, phi + kPi - view.lens_far, phi + kPi + view.lens_far);
         }
     }
-    ShadowValue out = inside_cone(hull, cone, x, n, rims);
+    ShadowValue out = outline_inside_cone(hull, cone, x, n, rims);
     if (lens.n > 0) {
-        const ShadowValue through = inside_cone(lens, cone, x, n, rims);
+        const ShadowValue through = outline_inside_cone(lens, cone, x, n, rims);
         out.value -= through.value;
         out.error += through.error;
     }
