@@ -116,6 +116,16 @@ std::optional<RoundFrustum> PlacedSurface::round_frustum() const {
     return t;
 }
 
+std::optional<SphericalCap> PlacedSurface::spherical_cap() const {
+    auto c = m_inner->spherical_cap();
+    if (!c) return std::nullopt;
+    c->center = m_xf.apply(c->center);
+    c->axis = m_xf.rotate * c->axis;
+    c->radius *= m_xf.scale;
+    c->height *= m_xf.scale;
+    return c;
+}
+
 void PlacedSurface::write_key(ByteWriter& w) const {
     m_inner->write_key(w);
     w.f64(m_xf.scale);

@@ -70,6 +70,7 @@ public:
     std::optional<ConvexSolid> convex_solid() const override;
     std::optional<FlatDisk> flat_disk() const override;
     std::optional<RoundFrustum> round_frustum() const override;
+    std::optional<SphericalCap> spherical_cap() const override;
     double max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,
                                   double t1) const override {
         const Mat3 inv = glm::transpose(m_xf.rotate);

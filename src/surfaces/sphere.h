@@ -45,6 +45,15 @@ public:
     std::pair<double, double> sphere_angles(double s, double t) const override {
         return {m_angles.at(s), theta(t)};
     }
+    // Caps only: every azimuth, from a pole to a polar angle short of the other pole.
+    std::optional<SphericalCap> spherical_cap() const override {
+        if (!m_angles.full() || whole_sphere()) return std::nullopt;
+        if (m_top == 0.0 && m_bottom < kPi)
+            return SphericalCap{m_center, Vec3(0, 0, 1), m_radius, m_radius * std::cos(m_bottom)};
+        if (m_bottom == kPi && m_top > 0.0)
+            return SphericalCap{m_center, Vec3(0, 0, -1), m_radius, -m_radius * std::cos(m_top)};
+        return std::nullopt;
+    }
     bool whole_sphere() const override { return m_angles.full() && m_top == 0.0 && m_bottom == kPi; }
     bool wraps_in_s() const override { return m_angles.full(); }
     bool pole_at_t0() const override { return m_bottom == kPi; }

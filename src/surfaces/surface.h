@@ -3,6 +3,8 @@
 // derivatives and exact ray intersection. Each type lives in its own file (quad.cpp,
 // sphere.cpp, ...) and is listed once in registry.cpp. Curved surfaces are never replaced by polygons
 // anywhere in radiosa.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -69,6 +71,17 @@ struct RoundFrustum {
         if (top_radius != radius) return std::nullopt;
         return RoundTube{base, axis, length, radius};
     }
+};
+
+// A whole spherical cap (every angle about its axis): the points of the sphere (centre, radius)
+// with (p - center) . axis >= height, -radius < height < radius, unit axis. Its solid, the ball
+// cut by that plane, is convex; its open end is the disk of radius sqrt(radius^2 - height^2)
+// about center + height axis.
+struct SphericalCap {
+    Vec3 center{0.0};
+    Vec3 axis{0.0, 0.0, 1.0};
+    double radius = 0.0, height = 0.0;
+    double rim_radius() const { return std::sqrt(std::max(0.0, radius * radius - height * height)); }
 };
 
 // A piece of a patch's boundary: the segment from a to b, or the arc
@@ -183,6 +196,10 @@ public:
     // The whole surface as a round cylinder or truncated cone (every angle), if it is one: what
     // it hides of a polygon seen from a point is in closed form (formfactor/tube_shadow.h).
     virtual std::optional<RoundFrustum> round_frustum() const { return std::nullopt; }
+    // The whole surface as a spherical cap (a dome or a bowl: every angle, one polar end at a
+    // pole), if it is one: what it hides of a polygon seen from a point is in closed form
+    // (formfactor/cap_shadow.h).
+    virtual std::optional<SphericalCap> spherical_cap() const { return std::nullopt; }
     // The largest distance of a point of the parameter rectangle from the line through p along
     // the unit vector u: exact where the line is the surface's own axis and for polygon patches;
     // this default, from bound(), may be larger but never smaller.
