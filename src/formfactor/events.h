@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "formfactor/cap_shadow.h"
 #include "formfactor/column_shadow.h"
 #include "formfactor/convex_clip.h"
 #include "formfactor/cubature.h"
@@ -95,6 +96,12 @@ public:
             if (column_wedge(p, t, &h))
                 for (const Vec3& m : h) m_planes.push_back({m, p});
         }
+    }
+    // A whole spherical cap in front of the pair (formfactor/cap_shadow.h): its ball's events
+    // and its rim's, the two circles its outline is made of.
+    void add_cap(const std::array<Vec3, 4>& v, const SphericalCap& c) {
+        add_sphere(v, BoundingSphere{c.center, c.radius});
+        add_disk(v, cap_rim(c));
     }
     // A whole round tube in front of the pair (formfactor/tube_shadow.h): its rims' events as a
     // disk's (x on an end plane, a rim touching an edge's plane or passing a vertex), and the

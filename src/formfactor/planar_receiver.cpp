@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "formfactor/cap_shadow.h"
 #include "formfactor/column_shadow.h"
 #include "formfactor/disk_shadow.h"
 #include "formfactor/events.h"
@@ -97,7 +98,7 @@ public:
           m_pi(pi),
           m_v(v),
           m_shadow(shadow),
-          m_ends(shadow.ends.has_value()),
+          m_ends(!shadow.openings.empty()),
           m_sliver_bound(si, pi, v, doubled_normal(v), area_v) {
         if (!pi.polygon) {
             m_events.add_horizons(v);
@@ -107,8 +108,7 @@ public:
         for (const BoundingSphere& ball : shadow.spheres) m_events.add_sphere(v, ball);
         m_events.add_flats(v, shadow.flats);
         if (shadow.disk) m_events.add_disk(v, *shadow.disk);
-        if (shadow.ends)
-            for (const FlatDisk& rim : tube_rims(*shadow.ends)) m_events.add_disk(v, rim);
+        for (const FlatDisk& rim : shadow.openings) m_events.add_disk(v, rim);
     }
 
     Cut cut(const Rect& r, double fine) const {
@@ -130,7 +130,7 @@ public:
         // On a sphere, what the sliver can be worth is bounded (SliverBound): the region
         // is then refined like any other, by its share of the error, and the search ends
         // when the bounds are small enough instead of at the cap. Nor under a disk's shadow
-        // or through a tube's ends, for the same reason.
+        // or through a tube's or a cap's open ends, for the same reason.
         if (fine == 0.0 && m_shadow.spheres.empty() && !m_shadow.disk && !m_ends && !m_events.empty() &&
             m_events.crosses(m_si, r)) {
             const double ls = glm::length(m_si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
@@ -166,7 +166,7 @@ private:
     const Patch& m_pi;
     const std::array<Vec3, 4>& m_v;
     const PlanarReceiver& m_shadow;
-    bool m_ends;  // patch i inside a tube, seeing the receiver through its ends
+    bool m_ends;  // patch i inside a tube or a cap, seeing the receiver through its open ends
     SliverBound m_sliver_bound;
     EventSet m_events;
 };
@@ -183,23 +183,24 @@ public:
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const PlanarReceiver& shadow, double tol) const {
         if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column ||
-             shadow.tube) &&
+             shadow.tube || shadow.cap) &&
             m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
         const Surface& si = m_geo.surface(pi.surface);
         const std::array<Vec3, 4> v = m_geo.front_polygon(j);
         const BoundingSphere* b = shadow.spheres.empty() ? nullptr : &shadow.spheres[0];
-        const std::optional<std::array<FlatDisk, 2>> ends =
-            shadow.ends ? std::optional(tube_rims(*shadow.ends)) : std::nullopt;
         auto g = [&](double s, double t) {
             const Vec3 nrm = si.normal(s, t);
             const double da = glm::length(nrm);
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
-            if (ends)  // from inside the tube: what each open end lets through
-                return da * (point_to_polygon_hidden_by_disk(x, nrm / da, v.data(), 4, (*ends)[0]).value +
-                             point_to_polygon_hidden_by_disk(x, nrm / da, v.data(), 4, (*ends)[1]).value);
+            if (!shadow.openings.empty()) {  // from inside a tube or a cap: what each open end lets through
+                double through = 0.0;
+                for (const FlatDisk& rim : shadow.openings)
+                    through += point_to_polygon_hidden_by_disk(x, nrm / da, v.data(), 4, rim).value;
+                return da * through;
+            }
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) -
                          hidden_past_first_ball(x, nrm / da, v, shadow));
         };
@@ -248,6 +249,8 @@ public:
                 return da * point_to_polygon_hidden_by_column(x, unit, vj.data(), 4, *shadow.column);
             if (shadow.tube)
                 return da * point_to_polygon_hidden_by_tube(x, unit, vj.data(), 4, *shadow.tube).value;
+            if (shadow.cap)
+                return da * point_to_polygon_hidden_by_cap(x, unit, vj.data(), 4, *shadow.cap).value;
             if (shadow.spheres.empty())
                 return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
             double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
@@ -272,6 +275,7 @@ public:
         if (shadow.disk) events.add_disk(vj, *shadow.disk);
         if (shadow.column) events.add_column(vj, *shadow.column);
         if (shadow.tube) events.add_tube(vj, *shadow.tube);
+        if (shadow.cap) events.add_cap(vj, *shadow.cap);
         auto geometric = [&](const Rect& r, double fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
@@ -281,9 +285,11 @@ public:
         };
         const double region_tol = pair_tol - open.error;
         // A disk's rim bends its outline smoothly, as a ball's does; a tube's outline has corners
-        // where its rims cross (the lens of directions through both ends).
-        const double fraction =
-            (shadow.spheres.empty() && !shadow.disk) || shadow.tube ? kFlatKinkFraction : kSphereKinkFraction;
+        // where its rims cross (the lens of directions through both ends), a cap's where the
+        // ball's silhouette crosses the rim.
+        const double fraction = (shadow.spheres.empty() && !shadow.disk) || shadow.tube || shadow.cap
+                                    ? kFlatKinkFraction
+                                    : kSphereKinkFraction;
         // A region worth less than its tolerance, with an event crossing it and segments that may
         // meet the occluder, may be the onset of a shadow whose tip its nodes barely see
         // (measured: nodes saw 3e-13 of 1.1e-9, seed scene at 1e-10), so its value says nothing
@@ -324,6 +330,7 @@ public:
             if (convex_distance(hull, q, m_eps) <= m_eps) return true;
         if (shadow.column && hull_meets_column(hull, *shadow.column)) return true;
         if (shadow.tube && hull_meets_tube(hull, *shadow.tube)) return true;
+        if (shadow.cap && hull_meets_cap(hull, *shadow.cap)) return true;
         return shadow.disk && hull_meets_disk(hull, *shadow.disk);
     }
 
@@ -400,6 +407,53 @@ std::optional<RoundFrustum> tube_around(const SceneGeometry& g, int i, const Pla
     return tube;
 }
 
+bool same_cap(const SphericalCap& a, const SphericalCap& b) {
+    return a.center == b.center && a.axis == b.axis && a.radius == b.radius && a.height == b.height;
+}
+
+// The one whole spherical cap that every blocker is (its two sides are one).
+std::optional<SphericalCap> one_cap(const SceneGeometry& g, const std::vector<int>& blockers) {
+    std::optional<SphericalCap> cap;
+    for (int k : blockers) {
+        const auto c = g.surface(k).spherical_cap();
+        if (!c || (cap && !same_cap(*c, *cap))) return std::nullopt;
+        cap = c;
+    }
+    return cap;
+}
+
+// The one whole spherical cap that every blocker is, between two polygons, its solid wholly in
+// front of both planes by more than rounding at the scene's scale.
+std::optional<SphericalCap> one_cap_between(const SceneGeometry& g, int i, int j, const Plane& receiver,
+                                            const std::vector<int>& blockers) {
+    const auto cap = one_cap(g, blockers);
+    if (!cap || !g.patch(i).polygon || !g.patch(j).polygon) return std::nullopt;
+    const auto source = g.surface(g.patch(i).surface).plane();
+    const double margin = 1e-9 * g.scale();
+    if (!source || !(cap_min_signed_distance(*cap, receiver.normal, receiver.offset) > margin) ||
+        !(cap_min_signed_distance(*cap, source->normal, source->offset) > margin))
+        return std::nullopt;
+    return cap;
+}
+
+// The whole spherical cap that patch i lies on the concave side of, when that surface (either
+// side) is every blocker and its open end lies wholly in front of the receiver's plane: from
+// inside, i sees the receiver through the open end and nothing else (a segment from the cap
+// to a point of its open end stays in the solid, and past the end's plane there is no cap).
+std::optional<SphericalCap> cap_around(const SceneGeometry& g, int i, const Plane& receiver,
+                                       const std::vector<int>& blockers) {
+    const Patch& pi = g.patch(i);
+    const Surface& si = g.surface(pi.surface);
+    const auto cap = si.spherical_cap();
+    if (!cap || !one_cap(g, blockers) || !same_cap(*one_cap(g, blockers), *cap)) return std::nullopt;
+    const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
+    if (!(glm::dot(si.normal(sm, tm), si.point(sm, tm) - cap->center) < 0.0))
+        return std::nullopt;  // the outside
+    if (!(disk_min_signed_distance(cap_rim(*cap), receiver.normal, receiver.offset) > 1e-9 * g.scale()))
+        return std::nullopt;
+    return cap;
+}
+
 }  // namespace
 
 bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b) {
@@ -433,7 +487,12 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
     const auto plane = g.surface(pj.surface).plane();
     if (!plane) return std::nullopt;
     if (const auto t = tube_around(g, i, *plane, blockers)) {
-        how.ends = t;
+        const auto rims = tube_rims(*t);
+        how.openings.assign(rims.begin(), rims.end());
+        return how;
+    }
+    if (const auto c = cap_around(g, i, *plane, blockers)) {
+        how.openings = {cap_rim(*c)};
         return how;
     }
     if (const auto d = one_disk_between(g, pi, *plane, blockers)) {
@@ -455,6 +514,10 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
             how.tube = t;
             return how;
         }
+    }
+    if (const auto c = one_cap_between(g, i, j, *plane, blockers)) {
+        how.cap = c;
+        return how;
     }
     if (blockers.size() > kMaxShadowBalls) return std::nullopt;
     for (int k : blockers) {

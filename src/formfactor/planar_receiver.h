@@ -4,8 +4,9 @@
 // accepts are whole balls whose shadows never overlap as seen from the source patch (each
 // hides a part of the polygon in closed form: formfactor/point_polygon.h), a few flat convex
 // quads (their shadows on the polygon are polygons), one whole flat disk or annulus
-// (formfactor/disk_shadow.h), one column spanning the pair (formfactor/column_shadow.h) or one
-// whole round tube of any length in front of both (formfactor/tube_shadow.h). Between two
+// (formfactor/disk_shadow.h), one column spanning the pair (formfactor/column_shadow.h), one
+// whole round tube of any length in front of both (formfactor/tube_shadow.h) or one whole
+// spherical cap in front of both (formfactor/cap_shadow.h). Between two
 // polygons with occluders the unblocked exchange is the contour integral and only the shadow is integrated
 // over the source patch. The outer integral is adaptive, cut along shadow edges and horizons
 // (formfactor/events.h).
@@ -33,10 +34,14 @@ struct PlanarReceiver {
     // One whole round tube (a cylinder that does not span them, or a truncated cone), wholly in
     // front of both polygons' planes: its shadow is in closed form too (formfactor/tube_shadow.h).
     std::optional<RoundFrustum> tube;
-    // Patch i lies on the inside of this whole round tube, and the tube is all that may block:
-    // from inside, the polygon is seen through the tube's two open ends, each a disk whose
-    // cone cuts the polygon in closed form (formfactor/disk_shadow.h).
-    std::optional<RoundFrustum> ends;
+    // One whole spherical cap (a dome, a bowl), its solid wholly in front of both polygons'
+    // planes: its shadow is in closed form (formfactor/cap_shadow.h).
+    std::optional<SphericalCap> cap;
+    // Patch i lies on the inside of a whole round tube or spherical cap, and that surface is
+    // all that may block: from inside, the polygon is seen through its open ends (a tube's two
+    // rims, a cap's one), each a disk whose cone cuts the polygon in closed form
+    // (formfactor/disk_shadow.h).
+    std::vector<FlatDisk> openings;
 };
 
 // At most this many balls between a pair.
@@ -53,8 +58,9 @@ bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const B
 // that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
 // most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
 // or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's),
-// or one whole round tube between two polygons (spanning them, or in front of both), or patch i
-// lies inside the one tube that may block and sees the polygon through its ends. `blockers`
+// or one whole round tube between two polygons (spanning them, or in front of both), or one
+// whole spherical cap in front of both, or patch i lies inside the one tube or cap that may
+// block and sees the polygon through its open ends. `blockers`
 // are the pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
 std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
                                               const std::vector<int>& blockers, bool visibility);
