@@ -445,7 +445,8 @@ std::optional<SphericalCap> cap_around(const SceneGeometry& g, int i, const Plan
     const Patch& pi = g.patch(i);
     const Surface& si = g.surface(pi.surface);
     const auto cap = si.spherical_cap();
-    if (!cap || !one_cap(g, blockers) || !same_cap(*one_cap(g, blockers), *cap)) return std::nullopt;
+    const auto blocker = one_cap(g, blockers);
+    if (!cap || !blocker || !same_cap(*blocker, *cap)) return std::nullopt;
     const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
     if (!(glm::dot(si.normal(sm, tm), si.point(sm, tm) - cap->center) < 0.0))
         return std::nullopt;  // the outside
