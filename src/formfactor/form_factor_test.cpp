@@ -3,7 +3,12 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include "../tests/test_scenes.h"
 #include "formfactor/analytic.h"
@@ -227,6 +232,67 @@ TEST(FormFactor, ResultDoesNotDependOnThreadCount) {
         const FormFactors single = with(1), many = with(8);
         EXPECT_EQ(many.F.data, single.F.data) << describe(o);
         EXPECT_EQ(many.error, single.error) << describe(o);
+    }
+}
+
+namespace {
+
+// A weighted sum of every entry and estimate: moves when any of them moves.
+std::pair<double, double> fingerprint(const FormFactors& ff) {
+    double f = 0.0, e = 0.0;
+    for (int i = 0; i < ff.F.n; ++i)
+        for (int j = 0; j < ff.F.n; ++j) {
+            const double w = 1.0 + ((31 * i + 17 * j) % 97) / 97.0;
+            f += w * ff.F(i, j);
+            e += w * ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
+        }
+    return {f, e};
+}
+
+}  // namespace
+
+// A cached matrix is trusted by its key, and the key holds kFormFactorAlgorithmVersion: a change
+// that moves computed form factors must bump it, or caches written before hand back the old
+// values. These fingerprints of scenes that take every path (the seed scene's quads and ball;
+// a disk, a tube, a cone and a dome in a box, two-sided) were recorded at version
+// 15. When one moves, bump kFormFactorAlgorithmVersion (and kHierarchyAlgorithmVersion if the
+// links move too), say so in CHANGELOG.md, and record the new values here.
+TEST(FormFactor, ValuesMoveOnlyWithTheAlgorithmVersion) {
+    static_assert(kFormFactorAlgorithmVersion == 15, "record this test's fingerprints for the new version");
+    const std::string box = test::cube_faces(1.0, 0.0, 1);
+    const std::string two = ", patches: [4, 1], reflectance: [0.8, 0.8, 0.8], two_sided: true}\n";
+    const std::array<std::pair<std::string, std::string>, 4> boxes = {{
+        {"disk", "  - {name: o, type: disk, center: [0.1, 0, 0], normal: [0.2, 0.1, 1], radius: 0.4" + two},
+        {"tube",
+         "  - {name: o, type: cylinder, base: [0, 0.1, -0.4], axis: [0.1, 0, 0.8], radius: 0.3" + two},
+        {"cone",
+         "  - {name: o, type: cone, base: [0, 0, -0.5], axis: [0, 0, 1], radius: 0.4, top_radius: 0.1" + two},
+        {"dome",
+         "  - {name: o, type: sphere, center: [0.1, 0, -0.2], radius: 0.4, polar_deg: [0, 100]" + two},
+    }};
+    // name, F fingerprint, estimates' fingerprint
+    const std::array<std::tuple<std::string, double, double>, 5> recorded = {{
+        {"seed", 128.11619948253798, 0.0024473713534229071},
+        {"disk", 20.552591596552702, 5.4911928683643641e-05},
+        {"tube", 21.384210588688749, 0.00010063411172665451},
+        {"cone", 21.244688204604955, 9.6592123794149912e-05},
+        {"dome", 21.303830933077055, 9.8616664367742046e-05},
+    }};
+    std::vector<std::pair<double, double>> now;
+    now.push_back(fingerprint(
+        compute_form_factors(SceneGeometry(load_scene(RADIOSA_SOURCE_DIR "/scenes/baranoski1991.yaml")),
+                             FormFactorOptions::adaptive(1e-6))));
+    for (const auto& [name, occluder] : boxes)
+        now.push_back(fingerprint(
+            compute_form_factors(SceneGeometry(parse_scene("surfaces:\n" + box + occluder, name + ".yaml")),
+                                 FormFactorOptions::adaptive(1e-6))));
+    for (std::size_t k = 0; k < recorded.size(); ++k) {
+        const auto& [name, f, e] = recorded[k];
+        char line[160];
+        std::snprintf(line, sizeof line, "{\"%s\", %.17g, %.17g},", name.c_str(), now[k].first,
+                      now[k].second);
+        EXPECT_NEAR(now[k].first, f, 1e-10 * std::abs(f)) << "now " << line;
+        EXPECT_NEAR(now[k].second, e, 1e-10 * std::abs(e)) << "now " << line;
     }
 }
 
