@@ -11,6 +11,7 @@
 #include "formfactor/sensor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
+#include "util/gauss_legendre.h"
 
 namespace radiosa {
 
@@ -336,6 +337,36 @@ TEST(CurvedSurfaces, TwoSidedDomeInABoxCloses) {
 TEST(CurvedSurfaces, ATurnedCapInABoxCloses) {
     // A smaller cap, turned on its side about the box's centre (measured: closure 5.9e-9).
     expect_cap_in_a_box_closes(60.0, ", transform: {rotate_deg: {axis: [0, 1, 0], angle: 80}}");
+}
+
+TEST(CurvedSurfaces, APlateInsideADomeSeesItsInsideDirectly) {
+    // A square plate inside a hemispherical dome (radius 0.8, open side down at z = -0.5), facing
+    // down at z = -0.1: every direction from it meets the dome's inside or leaves through the
+    // open end, so it sends the inside 1 - F(plate -> the end's disk), the point-to-coaxial-disk
+    // formula integrated over the plate. The inside must not take it for a receiver seen
+    // through the open end (the plate is inside the solid): it took that path once, and the
+    // plate's row missed 1 by 0.21.
+    std::string s = "surfaces:\n" + box_faces(1);
+    s += "  - {name: dome, type: sphere, center: [0, 0, -0.5], radius: 0.8, facing: outward, polar_deg: [0, "
+         "90], "
+         "patches: [4, 1], reflectance: [0.8, 0.8, 0.8], two_sided: true}\n"
+         "  - {name: plate, type: quad, corners: [[-0.2, -0.2, -0.1], [-0.2, 0.2, -0.1], [0.2, 0.2, -0.1], "
+         "[0.2, -0.2, -0.1]], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+    const Scene scene = parse_scene(s, "plate.yaml");
+    const FormFactors ff = adaptive(scene, 1e-7);
+    // F(dA -> disk of radius r) from a point h below its plane, a off its axis (Howell B-13 form).
+    const auto point_to_disk = [](double h, double a, double r) {
+        const double sum = h * h + a * a + r * r;
+        return 0.5 * (1.0 - (h * h + a * a - r * r) / std::sqrt(sum * sum - 4.0 * a * a * r * r));
+    };
+    const GaussRule rule = gauss_legendre(24);
+    double to_disk = 0.0;
+    for (std::size_t u = 0; u < rule.x.size(); ++u)
+        for (std::size_t w = 0; w < rule.x.size(); ++w)
+            to_disk += 0.25 * rule.w[u] * rule.w[w] *
+                       point_to_disk(0.4, std::hypot(0.2 * rule.x[u], 0.2 * rule.x[w]), 0.8);
+    EXPECT_NEAR(surface_factor(scene, ff, 8, 7), 1.0 - to_disk, 1e-6);
+    EXPECT_GT(1.0 - to_disk, 0.1);
 }
 
 TEST(CurvedSurfaces, ATiltedAnnulusInABoxCloses) {

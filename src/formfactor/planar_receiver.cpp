@@ -437,11 +437,15 @@ std::optional<SphericalCap> one_cap_between(const SceneGeometry& g, int i, int j
 }
 
 // The whole spherical cap that patch i lies on the concave side of, when that surface (either
-// side) is every blocker and its open end lies wholly in front of the receiver's plane: from
-// inside, i sees the receiver through the open end and nothing else (a segment from the cap
-// to a point of its open end stays in the solid, and past the end's plane there is no cap).
+// side) is every blocker, its open end lies wholly in front of the receiver's plane and the
+// receiver v wholly outside its solid: from inside, i sees the receiver through the open end
+// and nothing else (a segment from the cap to a point outside the solid leaves it once, through
+// the open end or the cap, and past the end's plane there is no cap). A receiver inside the
+// solid (a plate under a dome, facing down) is seen directly, not through the end. For a tube
+// the first two conditions suffice: its solid is the hull of its rims, so a plane with both
+// rims in front of it misses the solid.
 std::optional<SphericalCap> cap_around(const SceneGeometry& g, int i, const Plane& receiver,
-                                       const std::vector<int>& blockers) {
+                                       const std::array<Vec3, 4>& v, const std::vector<int>& blockers) {
     const Patch& pi = g.patch(i);
     const Surface& si = g.surface(pi.surface);
     const auto cap = si.spherical_cap();
@@ -450,7 +454,8 @@ std::optional<SphericalCap> cap_around(const SceneGeometry& g, int i, const Plan
     const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
     if (!(glm::dot(si.normal(sm, tm), si.point(sm, tm) - cap->center) < 0.0))
         return std::nullopt;  // the outside
-    if (!(disk_min_signed_distance(cap_rim(*cap), receiver.normal, receiver.offset) > 1e-9 * g.scale()))
+    if (!(disk_min_signed_distance(cap_rim(*cap), receiver.normal, receiver.offset) > 1e-9 * g.scale()) ||
+        hull_meets_cap(v, *cap))
         return std::nullopt;
     return cap;
 }
@@ -492,7 +497,7 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
         how.openings.assign(rims.begin(), rims.end());
         return how;
     }
-    if (const auto c = cap_around(g, i, *plane, blockers)) {
+    if (const auto c = cap_around(g, i, *plane, g.front_polygon(j), blockers)) {
         how.openings = {cap_rim(*c)};
         return how;
     }
