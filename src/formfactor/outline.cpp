@@ -10,7 +10,7 @@ namespace radiosa {
 Outline cut_outline(const Outline& in, const Vec3& f, const Vec3& x, const std::array<Circle, 2>& rims) {
     Outline kept;
     for (int k = 0; k < in.n; ++k) {
-        const Piece& q = in.p[static_cast<std::size_t>(k)];
+        const OutlinePiece& q = in.p[static_cast<std::size_t>(k)];
         if (q.rim < 0) {
             const double da = glm::dot(f, q.a - x), db = glm::dot(f, q.b - x);
             if (da >= 0.0 && db >= 0.0) {
@@ -52,7 +52,7 @@ Outline cut_outline(const Outline& in, const Vec3& f, const Vec3& x, const std::
     }
     Outline out;
     for (int k = 0; k < kept.n; ++k) {
-        const Piece& q = kept.p[static_cast<std::size_t>(k)];
+        const OutlinePiece& q = kept.p[static_cast<std::size_t>(k)];
         out.add(q);
         const Vec3& next = kept.p[static_cast<std::size_t>((k + 1) % kept.n)].a;
         if (q.b != next) out.segment(q.b, next);
@@ -65,7 +65,7 @@ ContourValue integrate_outline(const Outline& o, const Vec3& x, const Vec3& n,
     ContourValue out;
     constexpr double kArcTol = 1e-14;
     for (int k = 0; k < o.n; ++k) {
-        const Piece& q = o.p[static_cast<std::size_t>(k)];
+        const OutlinePiece& q = o.p[static_cast<std::size_t>(k)];
         if (q.rim < 0) {
             out.value += segment_term(x, n, q.a, q.b);
             continue;

@@ -16,7 +16,7 @@ namespace radiosa {
 
 // A piece of an outline: the segment a -> b, or the arc of circle `rim` from angle `from` to `to`
 // (either order), whose ends are a and b.
-struct Piece {
+struct OutlinePiece {
     Vec3 a{0.0}, b{0.0};
     int rim = -1;  // -1: a segment
     double from = 0.0, to = 0.0;
@@ -26,10 +26,10 @@ struct Piece {
 // adds at most a chord and splits at most one arc in two.
 struct Outline {
     static constexpr int kMax = 4 + 3 * PolygonCone::kMaxEdges;
-    std::array<Piece, kMax> p{};
+    std::array<OutlinePiece, kMax> p{};
     int n = 0;
     bool full() const { return n >= kMax; }
-    void add(const Piece& q) {
+    void add(const OutlinePiece& q) {
         if (!full()) p[static_cast<std::size_t>(n++)] = q;
     }
     void arc(const std::array<Circle, 2>& rims, int rim, double from, double to) {
