@@ -527,7 +527,7 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
     }
     if (blockers.size() > kMaxShadowBalls) return std::nullopt;
     for (int k : blockers) {
-        // A solid ball: a whole sphere (a dome's shadow is not a cap).
+        // A solid ball: a whole sphere (a dome hides what its cap's solid does, above).
         const auto sph = g.surface(k).sphere();
         if (!sph || !g.surface(k).whole_sphere() || k == pi.surface ||
             plane->signed_distance(sph->center) < sph->radius)
