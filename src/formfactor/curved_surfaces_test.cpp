@@ -369,6 +369,40 @@ TEST(CurvedSurfaces, APlateInsideADomeSeesItsInsideDirectly) {
     EXPECT_GT(1.0 - to_disk, 0.1);
 }
 
+TEST(CurvedSurfaces, OccludersWhoseShadowsAreApartHideWhatEachHidesAlone) {
+    // A small floor patch under a wide ceiling, and between them a ball, a disk and a dome whose
+    // shadows never meet as seen from the patch: the three hide what each hides alone, so
+    // F(all three) = F(ball) + F(disk) + F(dome) - 2 F(none), each in closed form
+    // (formfactor/planar_receiver.h, `apart`); without it the pair took the numeric path, whose
+    // estimate stayed far above 1e-10.
+    const std::string floor =
+        "  - {name: floor, type: quad, corners: [[-0.05, -0.05, 0], [0.05, -0.05, 0], "
+        "[0.05, 0.05, 0], [-0.05, 0.05, 0]], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+    const std::string ceiling =
+        "  - {name: ceiling, type: quad, corners: [[-1, -1, 4], [-1, 1, 4], [1, 1, 4], [1, -1, "
+        "4]], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+    const std::string ball =
+        "  - {name: ball, type: sphere, center: [-0.35, 0, 2], radius: 0.15, patches: [4, 2], "
+        "reflectance: [0.5, 0.5, 0.5]}\n";
+    const std::string plate =
+        "  - {name: plate, type: disk, center: [0.35, 0, 2], normal: [0.3, 0, 1], radius: "
+        "0.15, patches: [4, 1], reflectance: [0.5, 0.5, 0.5], two_sided: true}\n";
+    const std::string dome =
+        "  - {name: dome, type: sphere, center: [0, 0.4, 2], radius: 0.15, polar_deg: [0, 90], "
+        "patches: [4, 1], reflectance: [0.5, 0.5, 0.5], two_sided: true}\n";
+    // F(floor -> ceiling), checked within its estimate's reach of the tolerance.
+    const auto f = [&](const std::string& occluders) {
+        const FormFactors ff = adaptive(
+            parse_scene("closed: false\nsurfaces:\n" + floor + ceiling + occluders, "apart.yaml"), 1e-10);
+        EXPECT_LE(err_of(ff, 0, 1), 1e-10);
+        return ff.F(0, 1);
+    };
+    const double none = f(""), all = f(ball + plate + dome);
+    const double each = f(ball) + f(plate) + f(dome) - 2.0 * none;
+    EXPECT_NEAR(all, each, 1e-9);
+    EXPECT_GT(none - all, 1e-3);  // they do hide something
+}
+
 TEST(CurvedSurfaces, ATiltedAnnulusInABoxCloses) {
     // A two-sided annulus, tilted and off centre, in a box split 2 x 2: every wall pair it comes
     // between takes its shadow in closed form (the hole's included), walls seeing each other

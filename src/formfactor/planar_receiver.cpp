@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <variant>
 
 #include "formfactor/cap_shadow.h"
 #include "formfactor/column_shadow.h"
@@ -86,6 +88,59 @@ Cut split_near(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v) {
     const double size = dir == 0 ? std::max(glm::length(c10 - c00), glm::length(c11 - c01))
                                  : std::max(glm::length(c01 - c00), glm::length(c11 - c10));
     return Cut{size > dmin ? dir : -1};
+}
+
+// What an occluder with a closed-form shadow hides of the polygon v from x (unit normal n).
+double hidden_by(const ShadowOccluder& o, const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v) {
+    if (const auto* b = std::get_if<BoundingSphere>(&o))
+        return point_to_polygon_blocked(x, n, v.data(), 4, *b);
+    if (const auto* d = std::get_if<FlatDisk>(&o))
+        return point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *d).value;
+    if (const auto* t = std::get_if<RoundFrustum>(&o))
+        return point_to_polygon_hidden_by_tube(x, n, v.data(), 4, *t).value;
+    return point_to_polygon_hidden_by_cap(x, n, v.data(), 4, std::get<SphericalCap>(o)).value;
+}
+
+// Where its shadow's outline bends as x moves (formfactor/events.h).
+void add_events(EventSet* events, const std::array<Vec3, 4>& v, const ShadowOccluder& o) {
+    if (const auto* b = std::get_if<BoundingSphere>(&o)) events->add_sphere(v, *b);
+    if (const auto* d = std::get_if<FlatDisk>(&o)) events->add_disk(v, *d);
+    if (const auto* t = std::get_if<RoundFrustum>(&o)) events->add_tube(v, *t);
+    if (const auto* c = std::get_if<SphericalCap>(&o)) events->add_cap(v, *c);
+}
+
+// Whether its outline has corners (a tube's where its rims cross, a cap's where the ball's
+// silhouette crosses the rim): then a kink counts like a flat occluder's.
+bool has_corners(const ShadowOccluder& o) {
+    return std::holds_alternative<RoundFrustum>(o) || std::holds_alternative<SphericalCap>(o);
+}
+
+// Whether the convex hull of the points meets the occluder (exactly).
+bool hull_meets(std::span<const Vec3> hull, const ShadowOccluder& o) {
+    if (const auto* b = std::get_if<BoundingSphere>(&o)) {
+        const std::array<Vec3, 1> c = {b->center};
+        return convex_distance(hull, c, b->radius) <= b->radius;
+    }
+    if (const auto* d = std::get_if<FlatDisk>(&o)) return hull_meets_disk(hull, *d);
+    if (const auto* t = std::get_if<RoundFrustum>(&o)) return hull_meets_tube(hull, *t);
+    return hull_meets_cap(hull, std::get<SphericalCap>(o));
+}
+
+// The least signed distance of the occluder from the plane (unit normal m, offset o).
+double min_signed_distance(const ShadowOccluder& occ, const Vec3& m, double o) {
+    if (const auto* b = std::get_if<BoundingSphere>(&occ)) return glm::dot(m, b->center) - o - b->radius;
+    if (const auto* d = std::get_if<FlatDisk>(&occ)) return disk_min_signed_distance(*d, m, o);
+    if (const auto* t = std::get_if<RoundFrustum>(&occ)) return tube_min_signed_distance(*t, m, o);
+    return cap_min_signed_distance(std::get<SphericalCap>(occ), m, o);
+}
+
+// Surface k as an occluder with a closed-form shadow, if it is one.
+std::optional<ShadowOccluder> shadow_occluder(const Surface& s) {
+    if (const auto b = s.sphere(); b && s.whole_sphere()) return ShadowOccluder{*b};
+    if (const auto d = s.flat_disk()) return ShadowOccluder{*d};
+    if (const auto t = s.round_frustum()) return ShadowOccluder{*t};
+    if (const auto c = s.spherical_cap()) return ShadowOccluder{*c};
+    return std::nullopt;
 }
 
 // Where the semi path's cubature over patch i splits a region, and which regions take the kink
@@ -183,7 +238,7 @@ public:
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const PlanarReceiver& shadow, double tol) const {
         if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column ||
-             shadow.tube || shadow.cap) &&
+             shadow.tube || shadow.cap || !shadow.apart.empty()) &&
             m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
@@ -251,6 +306,11 @@ public:
                 return da * point_to_polygon_hidden_by_tube(x, unit, vj.data(), 4, *shadow.tube).value;
             if (shadow.cap)
                 return da * point_to_polygon_hidden_by_cap(x, unit, vj.data(), 4, *shadow.cap).value;
+            if (!shadow.apart.empty()) {  // shadows apart: their parts add up
+                double hidden = 0.0;
+                for (const ShadowOccluder& o : shadow.apart) hidden += hidden_by(o, x, unit, vj);
+                return da * hidden;
+            }
             if (shadow.spheres.empty())
                 return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
             double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
@@ -276,6 +336,7 @@ public:
         if (shadow.column) events.add_column(vj, *shadow.column);
         if (shadow.tube) events.add_tube(vj, *shadow.tube);
         if (shadow.cap) events.add_cap(vj, *shadow.cap);
+        for (const ShadowOccluder& o : shadow.apart) add_events(&events, vj, o);
         auto geometric = [&](const Rect& r, double fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
@@ -287,7 +348,10 @@ public:
         // A disk's rim bends its outline smoothly, as a ball's does; a tube's outline has corners
         // where its rims cross (the lens of directions through both ends), a cap's where the
         // ball's silhouette crosses the rim.
-        const double fraction = (shadow.spheres.empty() && !shadow.disk) || shadow.tube || shadow.cap
+        const double fraction = (shadow.spheres.empty() && !shadow.disk && shadow.apart.empty()) ||
+                                        shadow.tube || shadow.cap ||
+                                        std::any_of(shadow.apart.begin(), shadow.apart.end(),
+                                                    [](const ShadowOccluder& o) { return has_corners(o); })
                                     ? kFlatKinkFraction
                                     : kSphereKinkFraction;
         // A region worth less than its tolerance, with an event crossing it and segments that may
@@ -331,6 +395,8 @@ public:
         if (shadow.column && hull_meets_column(hull, *shadow.column)) return true;
         if (shadow.tube && hull_meets_tube(hull, *shadow.tube)) return true;
         if (shadow.cap && hull_meets_cap(hull, *shadow.cap)) return true;
+        for (const ShadowOccluder& o : shadow.apart)
+            if (hull_meets(hull, o)) return true;
         return shadow.disk && hull_meets_disk(hull, *shadow.disk);
     }
 
@@ -460,6 +526,36 @@ std::optional<SphericalCap> cap_around(const SceneGeometry& g, int i, const Plan
     return cap;
 }
 
+// Several occluders with closed-form shadows between two polygons, each wholly in front of
+// both planes (by more than rounding at the scene's scale) and none of them a side of either
+// patch's surface, whose shadows never overlap as seen from patch i: their bounding balls'
+// cones from every point of i are apart (shadows_apart). The two sides of a two-sided surface
+// are one occluder.
+std::optional<std::vector<ShadowOccluder>> apart_occluders(const SceneGeometry& g, int i, int j,
+                                                           const Plane& receiver,
+                                                           const std::vector<int>& blockers) {
+    const Patch &pi = g.patch(i), &pj = g.patch(j);
+    const auto source = g.surface(pi.surface).plane();
+    if (!pi.polygon || !pj.polygon || !source || blockers.size() > kMaxShadowBalls) return std::nullopt;
+    const double margin = 1e-9 * g.scale();
+    std::vector<ShadowOccluder> out;
+    std::vector<int> taken;
+    for (int k : blockers) {
+        if (k == pi.surface || k == pj.surface) return std::nullopt;
+        if (std::find(taken.begin(), taken.end(), g.twin(k)) != taken.end()) continue;
+        const auto o = shadow_occluder(g.surface(k));
+        if (!o || !(min_signed_distance(*o, receiver.normal, receiver.offset) > margin) ||
+            !(min_signed_distance(*o, source->normal, source->offset) > margin))
+            return std::nullopt;
+        for (int l : taken)
+            if (!shadows_apart(pi.bound, g.surface_bound(l), g.surface_bound(k))) return std::nullopt;
+        taken.push_back(k);
+        out.push_back(*o);
+    }
+    if (out.empty()) return std::nullopt;
+    return out;
+}
+
 }  // namespace
 
 bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b) {
@@ -525,13 +621,20 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
         how.cap = c;
         return how;
     }
+    const auto apart = [&]() -> std::optional<PlanarReceiver> {
+        auto occluders = apart_occluders(g, i, j, *plane, blockers);
+        if (!occluders) return std::nullopt;
+        PlanarReceiver mixed;
+        mixed.apart = std::move(*occluders);
+        return mixed;
+    };
     if (blockers.size() > kMaxShadowBalls) return std::nullopt;
     for (int k : blockers) {
         // A solid ball: a whole sphere (a dome hides what its cap's solid does, above).
         const auto sph = g.surface(k).sphere();
         if (!sph || !g.surface(k).whole_sphere() || k == pi.surface ||
             plane->signed_distance(sph->center) < sph->radius)
-            return std::nullopt;
+            return apart();
         // Every point of patch i must lie outside the sphere: exactly for a polygon, by its
         // bounding sphere otherwise.
         if (pi.polygon ? distance_to_polygon(sph->center, g.front_polygon(i)) <= sph->radius

@@ -12,6 +12,7 @@
 // (formfactor/events.h).
 #include <array>
 #include <optional>
+#include <variant>
 #include <vector>
 
 #include "formfactor/cubature.h"
@@ -19,6 +20,10 @@
 #include "util/gauss_legendre.h"
 
 namespace radiosa {
+
+// An occluder with a closed-form shadow: a whole ball, flat disk or annulus, round tube or cone,
+// or spherical cap.
+using ShadowOccluder = std::variant<BoundingSphere, FlatDisk, RoundFrustum, SphericalCap>;
 
 // What may block the pair on this path: balls whose shadows never overlap as seen from patch i
 // (so the parts they hide add up), or a few flat quads.
@@ -42,6 +47,10 @@ struct PlanarReceiver {
     // rims, a cap's one), each a disk whose cone cuts the polygon in closed form
     // (formfactor/disk_shadow.h).
     std::vector<FlatDisk> openings;
+    // Several occluders of those kinds between two polygons, each wholly in front of both
+    // planes, whose shadows never overlap as seen from patch i (shadows_apart on their bounding
+    // balls): the parts they hide add up.
+    std::vector<ShadowOccluder> apart;
 };
 
 // At most this many balls between a pair.
@@ -59,8 +68,9 @@ bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const B
 // most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
 // or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's),
 // or one whole round tube between two polygons (spanning them, or in front of both), or one
-// whole spherical cap in front of both, or patch i lies inside the one tube or cap that may
-// block and sees the polygon through its open ends. `blockers`
+// whole spherical cap in front of both, or several of those (balls, disks, tubes, caps) in front
+// of both whose shadows from patch i never overlap, or patch i lies inside the one tube or cap
+// that may block and sees the polygon through its open ends. `blockers`
 // are the pair's possible occluders (Culling::occluders); with `visibility` off they are ignored.
 std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
                                               const std::vector<int>& blockers, bool visibility);
