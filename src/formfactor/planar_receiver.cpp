@@ -238,7 +238,7 @@ public:
     // emitter (a 1e-8 spark of radiosity 1e8) is as good as the emitter's own row.
     Estimate area_times_f_semi(int i, int j, const PlanarReceiver& shadow, double tol) const {
         if ((!shadow.spheres.empty() || !shadow.flats.empty() || shadow.disk || shadow.column ||
-             shadow.tube || shadow.cap || !shadow.apart.empty()) &&
+             !shadow.apart.empty()) &&
             m_geo.patch(i).polygon)
             return area_times_f_shadowed(i, j, shadow, tol);
         const Patch& pi = m_geo.patch(i);
@@ -302,10 +302,6 @@ public:
                 return da * point_to_polygon_hidden_by_disk(x, unit, vj.data(), 4, *shadow.disk).value;
             if (shadow.column)
                 return da * point_to_polygon_hidden_by_column(x, unit, vj.data(), 4, *shadow.column);
-            if (shadow.tube)
-                return da * point_to_polygon_hidden_by_tube(x, unit, vj.data(), 4, *shadow.tube).value;
-            if (shadow.cap)
-                return da * point_to_polygon_hidden_by_cap(x, unit, vj.data(), 4, *shadow.cap).value;
             if (!shadow.apart.empty()) {  // shadows apart: their parts add up
                 double hidden = 0.0;
                 for (const ShadowOccluder& o : shadow.apart) hidden += hidden_by(o, x, unit, vj);
@@ -334,8 +330,6 @@ public:
         events.add_flats(vj, shadow.flats);
         if (shadow.disk) events.add_disk(vj, *shadow.disk);
         if (shadow.column) events.add_column(vj, *shadow.column);
-        if (shadow.tube) events.add_tube(vj, *shadow.tube);
-        if (shadow.cap) events.add_cap(vj, *shadow.cap);
         for (const ShadowOccluder& o : shadow.apart) add_events(&events, vj, o);
         auto geometric = [&](const Rect& r, double fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
@@ -349,7 +343,6 @@ public:
         // where its rims cross (the lens of directions through both ends), a cap's where the
         // ball's silhouette crosses the rim.
         const double fraction = (shadow.spheres.empty() && !shadow.disk && shadow.apart.empty()) ||
-                                        shadow.tube || shadow.cap ||
                                         std::any_of(shadow.apart.begin(), shadow.apart.end(),
                                                     [](const ShadowOccluder& o) { return has_corners(o); })
                                     ? kFlatKinkFraction
@@ -393,8 +386,6 @@ public:
         for (const auto& q : shadow.flats)
             if (convex_distance(hull, q, m_eps) <= m_eps) return true;
         if (shadow.column && hull_meets_column(hull, *shadow.column)) return true;
-        if (shadow.tube && hull_meets_tube(hull, *shadow.tube)) return true;
-        if (shadow.cap && hull_meets_cap(hull, *shadow.cap)) return true;
         for (const ShadowOccluder& o : shadow.apart)
             if (hull_meets(hull, o)) return true;
         return shadow.disk && hull_meets_disk(hull, *shadow.disk);
@@ -613,12 +604,12 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
         }
         if (source && tube_min_signed_distance(*t, plane->normal, plane->offset) > margin &&
             tube_min_signed_distance(*t, source->normal, source->offset) > margin) {
-            how.tube = t;
+            how.apart = {*t};
             return how;
         }
     }
     if (const auto c = one_cap_between(g, i, j, *plane, blockers)) {
-        how.cap = c;
+        how.apart = {*c};
         return how;
     }
     const auto apart = [&]() -> std::optional<PlanarReceiver> {

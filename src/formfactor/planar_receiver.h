@@ -36,20 +36,16 @@ struct PlanarReceiver {
     // One round tube spanning the pair (formfactor/column_shadow.h): a column from floor to
     // ceiling between two walls; its shadow is a polygon.
     std::optional<RoundTube> column;
-    // One whole round tube (a cylinder that does not span them, or a truncated cone), wholly in
-    // front of both polygons' planes: its shadow is in closed form too (formfactor/tube_shadow.h).
-    std::optional<RoundFrustum> tube;
-    // One whole spherical cap (a dome, a bowl), its solid wholly in front of both polygons'
-    // planes: its shadow is in closed form (formfactor/cap_shadow.h).
-    std::optional<SphericalCap> cap;
     // Patch i lies on the inside of a whole round tube or spherical cap, and that surface is
     // all that may block: from inside, the polygon is seen through its open ends (a tube's two
     // rims, a cap's one), each a disk whose cone cuts the polygon in closed form
     // (formfactor/disk_shadow.h).
     std::vector<FlatDisk> openings;
-    // Several occluders of those kinds between two polygons, each wholly in front of both
-    // planes, whose shadows never overlap as seen from patch i (shadows_apart on their bounding
-    // balls): the parts they hide add up.
+    // Occluders with closed-form shadows between two polygons, each wholly in front of both
+    // planes: one whole round tube (a cylinder that does not span them, or a truncated cone:
+    // formfactor/tube_shadow.h) or spherical cap (formfactor/cap_shadow.h), or several balls,
+    // disks, tubes and caps whose shadows never overlap as seen from patch i (shadows_apart on
+    // their bounding balls): the parts they hide add up.
     std::vector<ShadowOccluder> apart;
 };
 
