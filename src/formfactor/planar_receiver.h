@@ -1,14 +1,13 @@
 #pragma once
 // Form factors toward a planar patch (a polygon) with the inner integral in closed form: the
 // point-to-polygon formula (Lambert's), minus what occluders hide. The occluders this path
-// accepts are whole balls whose shadows never overlap as seen from the source patch (each
-// hides a part of the polygon in closed form: formfactor/point_polygon.h), a few flat convex
-// quads (their shadows on the polygon are polygons), one whole flat disk or annulus
-// (formfactor/disk_shadow.h), one column spanning the pair (formfactor/column_shadow.h), one
-// whole round tube of any length in front of both (formfactor/tube_shadow.h) or one whole
-// spherical cap in front of both (formfactor/cap_shadow.h). Between two
-// polygons with occluders the unblocked exchange is the contour integral and only the shadow is integrated
-// over the source patch. The outer integral is adaptive, cut along shadow edges and horizons
+// accepts are whole balls (formfactor/point_polygon.h), disks or annuli (disk_shadow.h), round
+// tubes or cones (tube_shadow.h) and spherical caps (cap_shadow.h) whose shadows never overlap as
+// seen from the source patch, so that the parts they hide add up; a few flat convex quads (their
+// shadows on the polygon are polygons); one column spanning the pair (column_shadow.h); and,
+// from the inside of a tube or a cap, its open ends. Between two polygons with occluders the
+// unblocked exchange is the contour integral and only the shadow is integrated over the source
+// patch. The outer integral is adaptive, cut along shadow edges and horizons
 // (formfactor/events.h).
 #include <array>
 #include <optional>
@@ -25,8 +24,9 @@ namespace radiosa {
 // or spherical cap.
 using ShadowOccluder = std::variant<BoundingSphere, FlatDisk, RoundFrustum, SphericalCap>;
 
-// What may block the pair on this path: balls whose shadows never overlap as seen from patch i
-// (so the parts they hide add up), or a few flat quads.
+// What may block the pair on this path (one of the fields is set; none when nothing can):
+// balls whose shadows never overlap as seen from patch i (so the parts they hide add up), a few
+// flat quads, or one of the cases below.
 struct PlanarReceiver {
     std::vector<BoundingSphere> spheres;
     std::vector<std::array<Vec3, 4>> flats;  // each occluder's outline
