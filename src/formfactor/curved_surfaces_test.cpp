@@ -599,8 +599,8 @@ namespace radiosa {
 TEST(Sensor, UnderAPlateOrABallTheCeilingLosesTheirConeInClosedForm) {
     // A sensor at the origin facing up, a ceiling 4 x 4 at height 2 split 3 x 3, and between
     // them a two-sided plate of radius 0.4 at height 0.7 (it hides r^2 / (r^2 + h^2)) or a ball
-    // of radius 0.3 at height 0.8 (it hides sin^2 of its angular radius, (R / L)^2): every
-    // ceiling patch in closed form, the sum exact.
+    // of radius 0.3 at height 0.8 (it hides sin^2 of its angular radius, (R / L)^2), a dome, a
+    // lamp shade, or a ball and a plate apart: every ceiling patch in closed form, the sum exact.
     const std::string ceiling =
         "  - {name: ceiling, type: quad, corners: [[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]], patches: "
         "[3, 3],"
@@ -619,7 +619,26 @@ TEST(Sensor, UnderAPlateOrABallTheCeilingLosesTheirConeInClosedForm) {
          0.16 / (0.16 + 0.49)},
         {"  - {name: ball, type: sphere, center: [0, 0, 0.8], radius: 0.3, patches: [2, 2], reflectance: [0, "
          "0, 0]}\n",
-         0.09 / 0.64}};
+         0.09 / 0.64},
+        // A dome open below, its rim where the plate was: seen from below its outline is the rim.
+        {"  - {name: dome, type: sphere, center: [0, 0, 0.7], radius: 0.4, polar_deg: [0, 90], patches: [4, "
+         "1],"
+         " reflectance: [0, 0, 0], two_sided: true}\n",
+         0.16 / (0.16 + 0.49)},
+        // A lamp shade from radius 0.4 at height 0.7 to 0.1 at 1: its wide rim's disk less the
+        // narrow one's, seen through both ends.
+        {"  - {name: shade, type: cone, base: [0, 0, 0.7], axis: [0, 0, 0.3], radius: 0.4, top_radius: 0.1, "
+         "patches: [4, 1], reflectance: [0, 0, 0], two_sided: true}\n",
+         0.16 / (0.16 + 0.49) - 0.01 / (0.01 + 1.0)},
+        // A ball and a plate off the axis whose shadows never meet: cos(theta) (R / L)^2 for the
+        // ball, and the off-axis point-to-disk formula for the plate (Howell B-13), added up.
+        {"  - {name: ball, type: sphere, center: [0.5, 0, 1], radius: 0.15, patches: [2, 2], reflectance: "
+         "[0, 0, "
+         "0]}\n  - {name: plate, type: disk, center: [-0.5, 0, 1], normal: [0, 0, 1], radius: 0.15, patches: "
+         "[1, 1], reflectance: [0, 0, 0], two_sided: true}\n",
+         (1.0 / std::sqrt(1.25)) * 0.0225 / 1.25 +
+             0.5 * (1.0 - (1.0 + 0.25 - 0.0225) / std::sqrt((1.0 + 0.25 + 0.0225) * (1.0 + 0.25 + 0.0225) -
+                                                            4.0 * 0.25 * 0.0225))}};
     for (const Case& c : cases) {
         const Scene scene = sensor_scene(ceiling + c.occluder);
         const SensorFactors s = sensor_factors(SceneGeometry(scene), Vec3(0), Vec3(0, 0, 1), 1e-10, true);

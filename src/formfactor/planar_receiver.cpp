@@ -90,57 +90,12 @@ Cut split_near(const Surface& si, const Rect& r, const std::array<Vec3, 4>& v) {
     return Cut{size > dmin ? dir : -1};
 }
 
-// What an occluder with a closed-form shadow hides of the polygon v from x (unit normal n).
-double hidden_by(const ShadowOccluder& o, const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v) {
-    if (const auto* b = std::get_if<BoundingSphere>(&o))
-        return point_to_polygon_blocked(x, n, v.data(), 4, *b);
-    if (const auto* d = std::get_if<FlatDisk>(&o))
-        return point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *d).value;
-    if (const auto* t = std::get_if<RoundFrustum>(&o))
-        return point_to_polygon_hidden_by_tube(x, n, v.data(), 4, *t).value;
-    return point_to_polygon_hidden_by_cap(x, n, v.data(), 4, std::get<SphericalCap>(o)).value;
-}
-
 // Where its shadow's outline bends as x moves (formfactor/events.h).
 void add_events(EventSet* events, const std::array<Vec3, 4>& v, const ShadowOccluder& o) {
     if (const auto* b = std::get_if<BoundingSphere>(&o)) events->add_sphere(v, *b);
     if (const auto* d = std::get_if<FlatDisk>(&o)) events->add_disk(v, *d);
     if (const auto* t = std::get_if<RoundFrustum>(&o)) events->add_tube(v, *t);
     if (const auto* c = std::get_if<SphericalCap>(&o)) events->add_cap(v, *c);
-}
-
-// Whether its outline has corners (a tube's where its rims cross, a cap's where the ball's
-// silhouette crosses the rim): then a kink counts like a flat occluder's.
-bool has_corners(const ShadowOccluder& o) {
-    return std::holds_alternative<RoundFrustum>(o) || std::holds_alternative<SphericalCap>(o);
-}
-
-// Whether the convex hull of the points meets the occluder (exactly).
-bool hull_meets(std::span<const Vec3> hull, const ShadowOccluder& o) {
-    if (const auto* b = std::get_if<BoundingSphere>(&o)) {
-        const std::array<Vec3, 1> c = {b->center};
-        return convex_distance(hull, c, b->radius) <= b->radius;
-    }
-    if (const auto* d = std::get_if<FlatDisk>(&o)) return hull_meets_disk(hull, *d);
-    if (const auto* t = std::get_if<RoundFrustum>(&o)) return hull_meets_tube(hull, *t);
-    return hull_meets_cap(hull, std::get<SphericalCap>(o));
-}
-
-// The least signed distance of the occluder from the plane (unit normal m, offset o).
-double min_signed_distance(const ShadowOccluder& occ, const Vec3& m, double o) {
-    if (const auto* b = std::get_if<BoundingSphere>(&occ)) return glm::dot(m, b->center) - o - b->radius;
-    if (const auto* d = std::get_if<FlatDisk>(&occ)) return disk_min_signed_distance(*d, m, o);
-    if (const auto* t = std::get_if<RoundFrustum>(&occ)) return tube_min_signed_distance(*t, m, o);
-    return cap_min_signed_distance(std::get<SphericalCap>(occ), m, o);
-}
-
-// Surface k as an occluder with a closed-form shadow, if it is one.
-std::optional<ShadowOccluder> shadow_occluder(const Surface& s) {
-    if (const auto b = s.sphere(); b && s.whole_sphere()) return ShadowOccluder{*b};
-    if (const auto d = s.flat_disk()) return ShadowOccluder{*d};
-    if (const auto t = s.round_frustum()) return ShadowOccluder{*t};
-    if (const auto c = s.spherical_cap()) return ShadowOccluder{*c};
-    return std::nullopt;
 }
 
 // Where the semi path's cubature over patch i splits a region, and which regions take the kink

@@ -11,18 +11,14 @@
 // (formfactor/events.h).
 #include <array>
 #include <optional>
-#include <variant>
 #include <vector>
 
 #include "formfactor/cubature.h"
+#include "formfactor/shadow_occluder.h"
 #include "geometry/scene_geometry.h"
 #include "util/gauss_legendre.h"
 
 namespace radiosa {
-
-// An occluder with a closed-form shadow: a whole ball, flat disk or annulus, round tube or cone,
-// or spherical cap.
-using ShadowOccluder = std::variant<BoundingSphere, FlatDisk, RoundFrustum, SphericalCap>;
 
 // What may block the pair on this path (one of the fields is set; none when nothing can):
 // balls whose shadows never overlap as seen from patch i (so the parts they hide add up), a few

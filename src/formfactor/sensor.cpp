@@ -11,7 +11,9 @@
 #include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
 #include "formfactor/disk_shadow.h"
+#include "formfactor/planar_receiver.h"
 #include "formfactor/point_polygon.h"
+#include "formfactor/shadow_occluder.h"
 #include "formfactor/spherical_region.h"
 #include "util/convex_distance.h"
 
@@ -124,10 +126,11 @@ std::optional<ContourValue> by_contour(const SceneGeometry& g, const Vec3& x, co
     return std::nullopt;
 }
 
-// F(dA -> j) in closed form for a polygon patch that only one ball or one flat disk (either
-// side or both of a two-sided one) can hide from x: Lambert's formula minus the ball's cap of
-// directions or the disk's cone, each cut to the polygon (point_polygon.h, disk_shadow.h). The
-// occluder must lie wholly on j's front side, the disk also wholly in front of x.
+// F(dA -> j) in closed form for a polygon patch that only one ball, or occluders with closed-form
+// shadows that never overlap as seen from x (balls, disks, tubes or cones, caps: either side or
+// both of a two-sided one), can hide: Lambert's formula minus each one's cone of directions cut
+// to the polygon (formfactor/shadow_occluder.h). The occluders must lie wholly on j's front
+// side and in front of x (one ball alone: in front of j).
 std::optional<ContourValue> by_shadow(const SceneGeometry& g, const Vec3& x, const Vec3& n, int j,
                                       const std::vector<int>& blockers) {
     const Patch& pj = g.patch(j);
@@ -145,20 +148,26 @@ std::optional<ContourValue> by_shadow(const SceneGeometry& g, const Vec3& x, con
         c.value = point_to_polygon(x, n, v.data(), 4, &*ball);
         return c;
     }
-    const auto disk = first.flat_disk();
-    if (!disk) return std::nullopt;
+    // Whole balls, disks, tubes or cones and caps whose shadows never overlap as seen from x
+    // (shadows_apart on their bounding balls, from the point x): the parts they hide add up.
+    // The two sides of a two-sided surface are one occluder.
+    std::vector<ShadowOccluder> occluders;
+    std::vector<int> taken;
     for (int k : blockers) {
-        const auto d = g.surface(k).flat_disk();
-        if (!d || d->center != disk->center || d->radius != disk->radius ||
-            d->inner_radius != disk->inner_radius)
+        if (std::find(taken.begin(), taken.end(), g.twin(k)) != taken.end()) continue;
+        const auto o = shadow_occluder(g.surface(k));
+        if (!o || !(min_signed_distance(*o, plane->normal, plane->offset) > margin) ||
+            !(min_signed_distance(*o, n, glm::dot(n, x)) > margin))
             return std::nullopt;
+        for (int l : taken)
+            if (!shadows_apart(BoundingSphere{x, 0.0}, g.surface_bound(l), g.surface_bound(k)))
+                return std::nullopt;
+        taken.push_back(k);
+        occluders.push_back(*o);
     }
-    if (!(disk_min_signed_distance(*disk, plane->normal, plane->offset) > margin) ||
-        !(disk_min_signed_distance(*disk, n, glm::dot(n, x)) > margin))
-        return std::nullopt;
-    const ShadowValue hidden = point_to_polygon_hidden_by_disk(x, n, v.data(), 4, *disk);
-    c.value = std::max(0.0, point_to_polygon(x, n, v.data(), 4, nullptr) - hidden.value);
-    c.error += hidden.error;
+    double hidden = 0.0;
+    for (const ShadowOccluder& o : occluders) hidden += hidden_by(o, x, n, v, &c.error);
+    c.value = std::max(0.0, point_to_polygon(x, n, v.data(), 4, nullptr) - hidden);
     return c;
 }
 
