@@ -13,21 +13,6 @@ namespace radiosa {
 
 namespace {
 
-// A unit vector across the unit vector a.
-Vec3 across(const Vec3& a) {
-    return glm::normalize(std::abs(a.x) < 0.9 ? glm::cross(a, Vec3(1, 0, 0)) : glm::cross(a, Vec3(0, 1, 0)));
-}
-
-Circle circle(const Vec3& centre, const Vec3& normal, double rho) {
-    Circle c;
-    c.c = centre;
-    c.n = normal;
-    c.e1 = across(normal);
-    c.e2 = glm::cross(normal, c.e1);
-    c.rho = rho;
-    return c;
-}
-
 double angle_on(const Circle& c, const Vec3& p) {
     return std::atan2(glm::dot(p - c.c, c.e2), glm::dot(p - c.c, c.e1));
 }
@@ -84,7 +69,7 @@ ShadowValue point_to_polygon_hidden_by_cap(const Vec3& x, const Vec3& n, const V
     const double D = glm::length(q), xa = glm::dot(q, a);
     // Circle 0 the rim, circle 1 the ball's contact circle seen from x: the points p with
     // (p - c) . u = R^2 / D, u the unit vector from the centre to x.
-    std::array<Circle, 2> circles = {circle(cap.center + h * a, a, cap.rim_radius()), Circle{}};
+    std::array<Circle, 2> circles = {circle_about(cap.center + h * a, a, cap.rim_radius()), Circle{}};
     Outline outline;
     if (D <= R) {
         if (xa >= h) return {};  // in the solid
@@ -92,7 +77,8 @@ ShadowValue point_to_polygon_hidden_by_cap(const Vec3& x, const Vec3& n, const V
     } else {
         const Vec3 u = q / D;
         const double w = R * R / D;
-        circles[1] = circle(cap.center + w * u, u, R * std::sqrt(std::max(0.0, 1.0 - (R / D) * (R / D))));
+        circles[1] =
+            circle_about(cap.center + w * u, u, R * std::sqrt(std::max(0.0, 1.0 - (R / D) * (R / D))));
         const auto on_cap = [&](const Vec3& p) { return glm::dot(p - cap.center, a) >= h; };
         // A rim point is on the outline when the view along it does not enter the solid: it
         // faces x ((p - c) . u > w) seen from the closed side, faces away from the open side.

@@ -34,6 +34,18 @@ struct Circle {
     }
 };
 
+// The circle about `centre` in the plane of unit normal `normal`, radius rho, its basis from
+// unit_across(normal).
+inline Circle circle_about(const Vec3& centre, const Vec3& normal, double rho) {
+    Circle k;
+    k.c = centre;
+    k.n = normal;
+    k.e1 = unit_across(normal);
+    k.e2 = glm::cross(normal, k.e1);
+    k.rho = rho;
+    return k;
+}
+
 namespace circle_arc_detail {
 
 // The contour integral of n . (r x dr) / |r|^2 along the circle from angle a to b, r = y - x, by

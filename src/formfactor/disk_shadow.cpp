@@ -96,8 +96,7 @@ ShadowValue point_to_polygon_hidden_by_disk(const Vec3& x, const Vec3& n, const 
     Circle k;
     k.c = disk.center;
     k.n = disk.normal;
-    k.e1 = glm::normalize(std::abs(k.n.x) < 0.9 ? glm::cross(k.n, Vec3(1, 0, 0))
-                                                : glm::cross(k.n, Vec3(0, 1, 0)));
+    k.e1 = unit_across(k.n);
     k.e2 = glm::cross(k.n, k.e1);
     const double half = 1.25 * disk.radius;
     Region g;

@@ -341,8 +341,7 @@ private:
         const double len = glm::length(q - p);
         if (!(len > 0.0)) return;
         const Vec3 u = (q - p) / len;
-        const Vec3 a =
-            glm::normalize(std::abs(u.x) < 0.9 ? glm::cross(u, Vec3(1, 0, 0)) : glm::cross(u, Vec3(0, 1, 0)));
+        const Vec3 a = unit_across(u);
         const Vec3 b = glm::cross(u, a);
         const double wa = glm::dot(a, center - p), wb = glm::dot(b, center - p);
         const double na = glm::dot(a, normal), nb = glm::dot(b, normal), r2 = rho * rho;

@@ -15,15 +15,9 @@ namespace radiosa {
 
 namespace {
 
-// The unit vector across the axis from which the rims' angles count (the second is axis x e1).
-Vec3 tube_e1(const RoundFrustum& tube) {
-    const Vec3& a = tube.axis;
-    return glm::normalize(std::abs(a.x) < 0.9 ? glm::cross(a, Vec3(1, 0, 0)) : glm::cross(a, Vec3(0, 1, 0)));
-}
-
 // How the tube looks from x: x between the end planes or beyond one (the near rim, 0 at the
 // base), outside the solid's section at x's height (between the planes) or not, at angle phi
-// about the axis (from tube_e1); the silhouette generators at phi +- beta. From beyond an end:
+// about the axis (from unit_across(axis)); the silhouette generators at phi +- beta. From beyond an end:
 // which rim's cone holds the other's, if one does (`holds`: 0 none, 1 the near one's, 2 the far
 // one's); whether the rims' cones cross (the lens of directions through both ends) and where:
 // at phi +- lens_near on the near rim, phi + pi +- lens_far on the far one.
@@ -35,7 +29,7 @@ struct TubeView {
 
 TubeView tube_view(const Vec3& x, const RoundFrustum& tube) {
     TubeView out;
-    const Vec3 e1 = tube_e1(tube), e2 = glm::cross(tube.axis, e1);
+    const Vec3 e1 = unit_across(tube.axis), e2 = glm::cross(tube.axis, e1);
     // x's height along the axis, and its offset from the axis: distance D at angle phi.
     const double h = glm::dot(x - tube.base, tube.axis);
     const Vec3 off = x - tube.base - h * tube.axis;
@@ -134,12 +128,8 @@ ShadowValue point_to_polygon_hidden_by_tube(const Vec3& x, const Vec3& n, const 
     if (!polygon_cone(x, n, v, count, &cone)) return {};
     std::array<Circle, 2> rims;
     for (int k = 0; k < 2; ++k) {
-        Circle& c = rims[static_cast<std::size_t>(k)];
-        c.n = tube.axis;
-        c.e1 = tube_e1(tube);
-        c.e2 = glm::cross(c.n, c.e1);
-        c.c = tube.base + (k ? tube.length : 0.0) * tube.axis;
-        c.rho = k ? tube.top_radius : tube.radius;
+        rims[static_cast<std::size_t>(k)] = circle_about(tube.base + (k ? tube.length : 0.0) * tube.axis,
+                                                         tube.axis, k ? tube.top_radius : tube.radius);
     }
     const TubeView view = tube_view(x, tube);
     const double phi = view.phi, beta = view.beta;

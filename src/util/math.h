@@ -1,5 +1,6 @@
 #pragma once
 // Basic numeric types shared by every stage: double precision throughout.
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
@@ -22,6 +23,11 @@ struct Ray {
     Vec3 dir;
     Vec3 at(double t) const { return origin + t * dir; }
 };
+
+// A unit vector at right angles to the unit vector a (the same one for the same a).
+inline Vec3 unit_across(const Vec3& a) {
+    return glm::normalize(std::abs(a.x) < 0.9 ? glm::cross(a, Vec3(1, 0, 0)) : glm::cross(a, Vec3(0, 1, 0)));
+}
 
 struct BoundingSphere {
     Vec3 center{0.0};
