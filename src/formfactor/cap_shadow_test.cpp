@@ -12,6 +12,7 @@
 #include <cmath>
 #include <random>
 
+#include "../tests/closed_forms.h"
 #include "formfactor/disk_shadow.h"
 #include "formfactor/point_polygon.h"
 
@@ -29,32 +30,6 @@ bool segment_meets_cap(const Vec3& x, const Vec3& y, const SphericalCap& cap) {
     for (const double s : {(-B - std::sqrt(disc)) / (2.0 * A), (-B + std::sqrt(disc)) / (2.0 * A)})
         if (s > 0.0 && s < 1.0 && glm::dot(o + s * d, cap.axis) >= cap.height) return true;
     return false;
-}
-
-// The hidden form factor by the midpoint rule on an m x m grid over the quad v (a
-// parallelogram), with the ray test at each point.
-double brute_force_hidden(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v, const SphericalCap& cap,
-                          int m) {
-    const Vec3 e = v[1] - v[0], f = v[3] - v[0];
-    const Vec3 nv = glm::cross(e, f);
-    const double da = glm::length(nv) / (m * m);
-    const Vec3 unit = nv / glm::length(nv);
-    double sum = 0.0;
-    for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b) {
-            const Vec3 y = v[0] + ((a + 0.5) / m) * e + ((b + 0.5) / m) * f;
-            const Vec3 r = y - x;
-            const double l2 = glm::dot(r, r);
-            const double cx = glm::dot(n, r), cy = -glm::dot(unit, r);
-            if (cx <= 0.0 || cy <= 0.0 || !segment_meets_cap(x, y, cap)) continue;
-            sum += cx * cy / (kPi * l2 * l2) * da;
-        }
-    return sum;
-}
-
-// A wall: the square of half-size a in the plane y = w, centred at height zc, facing -y.
-std::array<Vec3, 4> wall(double a, double w, double zc) {
-    return {Vec3(-a, w, zc - a), Vec3(a, w, zc - a), Vec3(a, w, zc + a), Vec3(-a, w, zc + a)};
 }
 
 SphericalCap cap_to(double polar_deg, const Vec3& axis = Vec3(0, 0, 1)) {
@@ -97,7 +72,7 @@ TEST(CapShadow, ContinuousWhereTheOutlineChangesItsShape) {
     // Across the rim plane (the rim's silhouette arc flips to the other side of the contact
     // circle) and across the ball's surface below the rim (from the rim alone to the rim and the
     // contact circle), the value must not jump.
-    const auto v = wall(2.0, 1.5, 0.0);
+    const auto v = test::wall(2.0, 1.5, 0.0);
     const Vec3 n(0, 1, 0);
     for (const double polar : {50.0, 90.0, 140.0}) {
         const SphericalCap cap = cap_to(polar);
@@ -126,7 +101,7 @@ TEST(CapShadow, MatchesABruteForceSumAnywhere) {
     // test (the midpoint rule's error at the shadow's edge is O(1/600)).
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const auto v = wall(1.5, 1.0, 0.0);
+    const auto v = test::wall(1.5, 1.0, 0.0);
     for (const SphericalCap& cap : kCaps) {
         int cases = 0, open_side = 0, crossing = 0;
         while (cases < 10) {
@@ -135,7 +110,8 @@ TEST(CapShadow, MatchesABruteForceSumAnywhere) {
             if (glm::length(x - cap.center) < cap.radius + 0.02 && along > cap.height - 0.02) continue;
             const Vec3 n = glm::normalize(Vec3(0.4 * u(rng), 1.0, 0.4 * u(rng)));
             const double exact = point_to_polygon_hidden_by_cap(x, n, v.data(), 4, cap).value;
-            const double brute = brute_force_hidden(x, n, v, cap, 600);
+            const double brute = test::brute_force_hidden(
+                x, n, v, 600, [&](const Vec3& a, const Vec3& b) { return segment_meets_cap(a, b, cap); });
             EXPECT_NEAR(exact, brute, 2e-3 * point_to_polygon(x, n, v.data(), 4, nullptr) + 1e-6)
                 << cap.height << ": " << x.x << "," << x.y << "," << x.z;
             open_side += along < cap.height;

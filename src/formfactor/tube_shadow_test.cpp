@@ -11,6 +11,7 @@
 #include <cmath>
 #include <random>
 
+#include "../tests/closed_forms.h"
 #include "formfactor/column_shadow.h"
 #include "formfactor/disk_shadow.h"
 #include "formfactor/point_polygon.h"
@@ -45,32 +46,6 @@ bool segment_meets_tube(const Vec3& x, const Vec3& y, const RoundFrustum& t) {
         if (h >= 0.0 && h <= t.length && t.radius_at(h) >= 0.0) return true;
     }
     return false;
-}
-
-// The hidden form factor by the midpoint rule on an m x m grid over the quad v (a
-// parallelogram), with the ray test at each point.
-double brute_force_hidden(const Vec3& x, const Vec3& n, const std::array<Vec3, 4>& v, const RoundFrustum& t,
-                          int m) {
-    const Vec3 e = v[1] - v[0], f = v[3] - v[0];
-    const Vec3 nv = glm::cross(e, f);
-    const double da = glm::length(nv) / (m * m);
-    const Vec3 unit = nv / glm::length(nv);
-    double sum = 0.0;
-    for (int a = 0; a < m; ++a)
-        for (int b = 0; b < m; ++b) {
-            const Vec3 y = v[0] + ((a + 0.5) / m) * e + ((b + 0.5) / m) * f;
-            const Vec3 r = y - x;
-            const double l2 = glm::dot(r, r);
-            const double cx = glm::dot(n, r), cy = -glm::dot(unit, r);
-            if (cx <= 0.0 || cy <= 0.0 || !segment_meets_tube(x, y, t)) continue;
-            sum += cx * cy / (kPi * l2 * l2) * da;
-        }
-    return sum;
-}
-
-// A wall: the square of half-size a in the plane y = w, centred at height zc, facing -y.
-std::array<Vec3, 4> wall(double a, double w, double zc) {
-    return {Vec3(-a, w, zc - a), Vec3(a, w, zc - a), Vec3(a, w, zc + a), Vec3(-a, w, zc + a)};
 }
 
 const RoundFrustum kTube{Vec3(0, 0, -0.5), Vec3(0, 0, 1), 1.0, 0.3, 0.3};
@@ -113,7 +88,7 @@ TEST(TubeShadow, BetweenItsEndPlanesItsTheColumnsWedge) {
     // the column's closed form (a polygon cut by the wedge) applies.
     const RoundTube tall{Vec3(0, 0, -2), Vec3(0, 0, 1), 4.0, 0.3};
     const RoundFrustum same{tall.base, tall.axis, tall.length, tall.radius, tall.radius};
-    const auto v = wall(1.0, 1.5, 0.0);
+    const auto v = test::wall(1.0, 1.5, 0.0);
     for (const Vec3& x : {Vec3(0, -1.2, 0.0), Vec3(0.4, -0.9, 0.5), Vec3(-0.7, -1.0, -0.6)}) {
         const Vec3 n = glm::normalize(Vec3(0.1, 1.0, 0.2));
         ASSERT_TRUE(column_spans_pair(std::array<Vec3, 1>{x}, v, tall, 1e-9));
@@ -146,7 +121,7 @@ TEST(TubeShadow, AHullMeetsTheSolidNotItsWidestCylinder) {
 TEST(TubeShadow, ContinuousAcrossAnEndPlane) {
     // Crossing an end plane, the outline changes from the two rims' near arcs to the hull of the
     // rims minus the lens: the value must not jump.
-    const auto v = wall(2.0, 1.5, 0.0);
+    const auto v = test::wall(2.0, 1.5, 0.0);
     const Vec3 n(0, 1, 0);
     for (const RoundFrustum& tube : kTubes)
         for (const double z : {-0.5, 0.5})
@@ -166,7 +141,7 @@ TEST(TubeShadow, MatchesABruteForceSumAnywhere) {
     // exact ray test (the midpoint rule's error at the shadow's edge is O(1/600)).
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const auto v = wall(1.5, 1.0, 0.0);
+    const auto v = test::wall(1.5, 1.0, 0.0);
     for (const RoundFrustum& tube : kTubes) {
         int cases = 0, lens = 0, shaded = 0;
         while (cases < 10) {
@@ -175,7 +150,8 @@ TEST(TubeShadow, MatchesABruteForceSumAnywhere) {
             if (std::abs(x.z) <= 0.5 && glm::length(off) <= tube.radius_at(x.z + 0.5) + 0.05) continue;
             const Vec3 n = glm::normalize(Vec3(0.4 * u(rng), 1.0, 0.4 * u(rng)));
             const double exact = point_to_polygon_hidden_by_tube(x, n, v.data(), 4, tube).value;
-            const double brute = brute_force_hidden(x, n, v, tube, 600);
+            const double brute = test::brute_force_hidden(
+                x, n, v, 600, [&](const Vec3& a, const Vec3& b) { return segment_meets_tube(a, b, tube); });
             EXPECT_NEAR(exact, brute, 2e-3 * point_to_polygon(x, n, v.data(), 4, nullptr) + 1e-6)
                 << tube.top_radius << ": " << x.x << "," << x.y << "," << x.z;
             lens += std::abs(x.z) > 0.5;
