@@ -384,17 +384,22 @@ std::optional<FlatDisk> one_disk_between(const SceneGeometry& g, const Patch& pi
 }
 
 // The one whole round tube (cylinder or truncated cone) that every blocker is (its two sides
-// are one), between two polygons.
-std::optional<RoundFrustum> one_tube_between(const SceneGeometry& g, int i, int j,
-                                             const std::vector<int>& blockers) {
+// are one).
+std::optional<RoundFrustum> one_tube(const SceneGeometry& g, const std::vector<int>& blockers) {
     std::optional<RoundFrustum> tube;
     for (int k : blockers) {
         const auto t = g.surface(k).round_frustum();
         if (!t || (tube && !same_tube(*t, *tube))) return std::nullopt;
         tube = t;
     }
-    if (!tube || !g.patch(i).polygon || !g.patch(j).polygon) return std::nullopt;
     return tube;
+}
+
+// The same, between two polygons.
+std::optional<RoundFrustum> one_tube_between(const SceneGeometry& g, int i, int j,
+                                             const std::vector<int>& blockers) {
+    if (!g.patch(i).polygon || !g.patch(j).polygon) return std::nullopt;
+    return one_tube(g, blockers);
 }
 
 // The whole round tube or cone that patch i lies inside of, when that surface (either side) is
@@ -406,11 +411,8 @@ std::optional<RoundFrustum> tube_around(const SceneGeometry& g, int i, const Pla
     const Patch& pi = g.patch(i);
     const Surface& si = g.surface(pi.surface);
     const auto tube = si.round_frustum();
-    if (!tube) return std::nullopt;
-    for (int k : blockers) {
-        const auto t = g.surface(k).round_frustum();
-        if (!t || !same_tube(*t, *tube)) return std::nullopt;
-    }
+    const auto blocker = one_tube(g, blockers);
+    if (!tube || !blocker || !same_tube(*blocker, *tube)) return std::nullopt;
     const double sm = 0.5 * (pi.s0 + pi.s1), tm = 0.5 * (pi.t0 + pi.t1);
     const Vec3 p = si.point(sm, tm), off = p - tube->base - glm::dot(p - tube->base, tube->axis) * tube->axis;
     if (!(glm::dot(si.normal(sm, tm), off) < 0.0)) return std::nullopt;  // the outside
