@@ -56,6 +56,9 @@ void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
     j["form_factor_tolerance"] = fixed ? json(nullptr) : json(o.tolerance);
     j["gauss_points"] = fixed ? json(o.gauss_points) : json(nullptr);
     j["link_tolerance"] = o.method == FormFactorMethod::Hierarchical ? json(o.link_tolerance) : json(nullptr);
+    j["receiver_tolerance"] = o.method == FormFactorMethod::Hierarchical && o.receiver_tolerance > 0.0
+                                  ? json(o.receiver_tolerance)
+                                  : json(nullptr);
     j["visibility"] = o.visibility;
 }
 

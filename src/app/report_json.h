@@ -27,7 +27,8 @@ struct SharedSolves {
 nlohmann::json left_out_json(const FormFactorOptions& o, const FormFactorStats& s,
                              const SharedSolves& solves);
 // Adds form_factor_method ("adaptive" | "gauss" | "hierarchical"), form_factor_tolerance,
-// gauss_points and link_tolerance (those that do not apply are null) and visibility.
+// gauss_points, link_tolerance and receiver_tolerance (those that do not apply are null) and
+// visibility.
 void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o);
 // "hierarchy": {nodes, links, leaf_links, node_pairs, kernel_samples, dropped, bytes, seconds}.
 nlohmann::json hierarchy_json(const Hierarchy& h);

@@ -288,6 +288,7 @@ auto guarded(std::uint64_t size, F&& f) {
 HierarchyOptions hierarchy_options(const FormFactorOptions& options) {
     HierarchyOptions ho;
     ho.tolerance = options.link_tolerance;
+    ho.receiver_tolerance = options.receiver_tolerance;
     return ho;
 }
 
@@ -301,6 +302,11 @@ CacheKey hierarchy_key(const Scene& scene, const FormFactorOptions& options) {
           16);
     w.f64(options.link_tolerance);
     w.u32(static_cast<std::uint32_t>(hierarchy_options(options).samples));
+    // Absent at 0: the keys of earlier builds stay valid.
+    if (options.receiver_tolerance > 0.0) {
+        w.str("receiver tolerance");
+        w.f64(options.receiver_tolerance);
+    }
     return hash_key(w.bytes());
 }
 

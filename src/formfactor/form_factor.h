@@ -66,6 +66,9 @@ struct FormFactorOptions {
     }
     // Hierarchical: the tolerance on each link's coupling (hierarchy.h).
     double link_tolerance = kDefaultLinkTolerance;
+    // Hierarchical: the tolerance on the part of a link's estimate that a receiver's misfit
+    // takes (hierarchy.h, HierarchyOptions); 0: the link tolerance alone.
+    double receiver_tolerance = 0.0;
 
     static FormFactorOptions adaptive(double tol, bool visibility = true) {
         FormFactorOptions o;

@@ -402,7 +402,11 @@ private:
         const Slopes k_pq = slopes(a, c.fit_p, b, c.fit_q), k_qp = slopes(b, c.fit_q, a, c.fit_p);
         const double e_pq = rp + (rq * b.area + c.quadrature) / a.area + k_pq.rounding;
         const double e_qp = rq + (rp * a.area + c.quadrature) / b.area + k_qp.rounding;
-        if (c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance) {
+        // With a receiver tolerance, each side's misfit as a receiver is held to it too.
+        const bool receivers_fit =
+            !(m_o.receiver_tolerance > 0.0) || std::max(rp, rq) <= m_o.receiver_tolerance;
+        const bool fits = c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance;
+        if (fits && receivers_fit) {
             add(p, q, c.g / a.area, e_pq, k_pq);
             add(q, p, c.g / b.area, e_qp, k_qp);
             return done(p, q);
@@ -416,8 +420,9 @@ private:
             add(q, p, 0.0, c.open_q);
             return done(p, q);
         }
-        // Split the larger node (a leaf is never split).
-        const bool split_a = !a.leaf() && (b.leaf() || a.area >= b.area);
+        // Split the larger node (a leaf is never split); or, when only a receiver's misfit is
+        // over the receiver tolerance, the node with the larger misfit.
+        const bool split_a = !a.leaf() && (b.leaf() || (fits ? rp >= rq : a.area >= b.area));
         const HierarchyNode& s = split_a ? a : b;
         const int other = split_a ? q : p, c0 = s.child[0], c1 = s.child[1];
         both(

@@ -39,6 +39,11 @@ namespace radiosa {
 struct HierarchyOptions {
     double tolerance = 1e-5;  // on each link's coupling, as an absolute form factor
     int samples = 3;          // Gauss points per parameter on each node (samples^4 kernel values)
+    // On the receiver's misfit in each link's estimate (0: `tolerance` alone). Every link's
+    // estimate within `tolerance` still leaves a patch the sum of its ancestors' links' misfits,
+    // and those add up with one sign where a kernel is convex across its receivers (near the
+    // edges where two walls meet): docs/scale.md, "Receiver tolerance".
+    double receiver_tolerance = 0.0;
 };
 
 struct HierarchyNode {

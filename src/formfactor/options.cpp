@@ -42,6 +42,8 @@ FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
         o = FormFactorOptions::hierarchical(own ? tol : kDefaultLinkTolerance);
     else
         o = FormFactorOptions::adaptive(own ? tol : kDefaultFormFactorTolerance);
+    if (m == "hierarchical" && scene.hierarchical && scene.receiver_tolerance)
+        o.receiver_tolerance = std::min(*scene.receiver_tolerance, o.link_tolerance);
     o.visibility = visibility.value_or(scene.visibility);
     return o;
 }
@@ -54,6 +56,10 @@ std::string describe(const FormFactorOptions& o) {
         case FormFactorMethod::Adaptive:
             return fmt::format("adaptive, tolerance {:.0e}", o.tolerance);
         case FormFactorMethod::Hierarchical:
+            if (o.receiver_tolerance > 0.0)
+                return fmt::format(
+                    "hierarchical, link tolerance {:.0e}, receivers {:.0e} (pairs of patches {:.0e})",
+                    o.link_tolerance, o.receiver_tolerance, o.tolerance);
             return fmt::format("hierarchical, link tolerance {:.0e} (pairs of patches {:.0e})",
                                o.link_tolerance, o.tolerance);
     }

@@ -61,6 +61,8 @@ struct FormFactorSettings {
     std::optional<int> gauss_points;  // the paper's fixed rule, p points per parameter
     bool visibility = true;           // test occlusion
     bool hierarchical = false;        // method: hierarchical (tolerance is then the links')
+    // Hierarchical: the tolerance on each link's receiver misfit (FormFactorOptions).
+    std::optional<double> receiver_tolerance;
 };
 
 // The scene file's solve block: a target on the radiosity itself.

@@ -207,8 +207,20 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
         if (!(*f.tolerance >= kMinFormFactorTolerance && *f.tolerance <= 0.1))
             throw Error(loc_of(*t, file), "tolerance must be in [1e-12, 0.1], got " + t->Scalar());
     }
+    if (auto t = m.optional("receiver_tolerance")) {
+        if (!f.hierarchical)
+            throw Error(loc_of(*t, file),
+                        "receiver_tolerance belongs to method: hierarchical; add method: "
+                        "hierarchical or remove it");
+        f.receiver_tolerance = yaml_number(*t, file, "receiver_tolerance");
+        if (!(*f.receiver_tolerance >= kMinFormFactorTolerance && *f.receiver_tolerance <= 0.1))
+            throw Error(loc_of(*t, file), "receiver_tolerance must be in [1e-12, 0.1], got " + t->Scalar());
+        if (f.tolerance && *f.receiver_tolerance > *f.tolerance)
+            throw Error(loc_of(*t, file), "receiver_tolerance must not exceed tolerance (" +
+                                              m.optional("tolerance")->Scalar() + "), got " + t->Scalar());
+    }
     f.visibility = m.boolean_or("visibility", true);
-    m.reject_unknown_keys("method, tolerance | gauss_points, visibility");
+    m.reject_unknown_keys("method, tolerance | gauss_points, receiver_tolerance, visibility");
     return f;
 }
 

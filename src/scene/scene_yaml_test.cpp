@@ -151,6 +151,26 @@ TEST(SceneYaml, HierarchicalMethodAndItsTolerance) {
               "s.yaml:1:52: gauss_points belongs to method: gauss, not hierarchical");
 }
 
+TEST(SceneYaml, ReceiverToleranceBelongsToTheHierarchicalMethod) {
+    const std::string body = with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n");
+    const Scene s =
+        parse_scene("form_factors: {method: hierarchical, receiver_tolerance: 3e-6}\n" + body, "s.yaml");
+    const auto resolve = [&](std::optional<std::string> method) {
+        return resolve_form_factor_options(s.form_factors, method, std::nullopt, std::nullopt, std::nullopt);
+    };
+    EXPECT_EQ(resolve(std::nullopt).receiver_tolerance, 3e-6);
+    EXPECT_EQ(resolve(std::nullopt).link_tolerance, kDefaultLinkTolerance);
+    EXPECT_EQ(resolve("adaptive").receiver_tolerance, 0.0);  // the dense path has no receivers
+    EXPECT_EQ(parse_error("form_factors: {receiver_tolerance: 1e-6}\n" + body),
+              "s.yaml:1:36: receiver_tolerance belongs to method: hierarchical; add method: hierarchical or "
+              "remove it");
+    EXPECT_EQ(parse_error(
+                  "form_factors: {method: hierarchical, tolerance: 1e-5, receiver_tolerance: 2e-5}\n" + body),
+              "s.yaml:1:75: receiver_tolerance must not exceed tolerance (1e-5), got 2e-5");
+    EXPECT_EQ(parse_error("form_factors: {method: hierarchical, receiver_tolerance: -1}\n" + body),
+              "s.yaml:1:58: receiver_tolerance must be in [1e-12, 0.1], got -1");
+}
+
 TEST(SceneYaml, UnknownKeyNamesItsLine) {
     EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    colour: [1, 1, 1]\n")),
               "s.yaml:7:5: unknown key 'colour' in surface #1 (allowed: name, type, corners | origin + "
