@@ -101,6 +101,7 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     const nlohmann::json j = read_json(d / "links.json");
     EXPECT_EQ(j["form_factor_method"], "hierarchical");
     EXPECT_EQ(j["link_tolerance"], 1e-5);
+    EXPECT_TRUE(j["receiver_tolerance"].is_null());
     EXPECT_DOUBLE_EQ(j["form_factor_tolerance"].get<double>(), 1e-6);
     EXPECT_EQ(j["hierarchy"]["nodes"], 165);  // 6 faces of 9 patches (17 nodes) and 32 sphere patches (63)
     EXPECT_EQ(j["hierarchy"]["links"], j["hierarchy"]["leaf_links"]);
@@ -252,6 +253,44 @@ TEST(HierarchicalCli, RelitSequenceIsSolvedAheadOrCombinedOverLinks) {
     for (const auto& e : links["radiosity_error_estimate"]) EXPECT_LT(e.get<double>(), 2e-4);
     EXPECT_LT(links["solve"]["energy_balance_error"].get<double>(), 1e-6);
     EXPECT_TRUE(dense["radiosity_error_estimate"].is_null());
+    fs::remove_all(d);
+}
+
+// --ff-receiver-tolerance: in the report, part of the links' cache key (links built without it
+// are not served to a run with it), and refused without the hierarchical method.
+TEST(HierarchicalCli, ReceiverToleranceIsInTheReportAndTheCacheKey) {
+    const fs::path d = fresh_dir("radiosa_hier_receivers");
+    const std::string cache = (d / "cache").string();
+    const auto render = [&](const std::string& tag, std::vector<std::string> extra) {
+        std::vector<std::string> args = {"render",      kScene,
+                                         "-c",          kCamA,
+                                         "-o",          (d / (tag + ".png")).string(),
+                                         "--width",     "32",
+                                         "--height",    "24",
+                                         "--cache-dir", cache,
+                                         "--report",    (d / (tag + ".json")).string(),
+                                         "-q"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run(args);
+    };
+    CliRun r = render("plain", {"--ff-method", "hierarchical"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = render("held", {"--ff-method", "hierarchical", "--ff-receiver-tolerance", "2e-6"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json plain = read_json(d / "plain.json"), held = read_json(d / "held.json");
+    EXPECT_TRUE(plain["receiver_tolerance"].is_null());
+    EXPECT_EQ(held["receiver_tolerance"], 2e-6);
+    EXPECT_EQ(held["form_factor_cache"]["status"], "miss");
+    EXPECT_NE(held["form_factor_cache"]["file"], plain["form_factor_cache"]["file"]);
+    r = render("again", {"--ff-method", "hierarchical", "--ff-receiver-tolerance", "2e-6"});
+    EXPECT_EQ(read_json(d / "again.json")["form_factor_cache"]["status"], "hit");
+    r = render("dense", {"--ff-receiver-tolerance", "2e-6"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(
+        r.err,
+        "error: --ff-receiver-tolerance belongs to the hierarchical method: add --ff-method hierarchical, "
+        "or remove it\n");
+    EXPECT_FALSE(fs::exists(d / "dense.png"));
     fs::remove_all(d);
 }
 

@@ -49,6 +49,11 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
                     "hierarchical: on each link (default 2e-5)")
         ->check(CLI::Range(1e-12, 0.1))
         ->excludes(p);
+    cmd->add_option("--ff-receiver-tolerance", req->receiver_tolerance,
+                    "Hierarchical: also hold each link's misfit over its receiver to this (slower; rows "
+                    "closer to 1: docs/scale.md); overrides the scene's form_factors.receiver_tolerance")
+        ->check(CLI::Range(1e-12, 0.1))
+        ->excludes(p);
     cmd->add_option("--ff-method", req->method,
                     "Form-factor method: adaptive (the default), gauss (the paper's rule, -p points) or "
                     "hierarchical (links between groups of patches, no N x N matrix; docs/scale.md)")

@@ -2,28 +2,38 @@
 // What a command asks of the form-factor stage: the command line's overrides of the scene's
 // form_factors block, and where the cache is. Shared by render (stills and sequences) and
 // formfactors.
+#include <algorithm>
 #include <optional>
 
 #include "cache/cache_file.h"
 #include "formfactor/form_factor.h"
 #include "scene/scene.h"
+#include "util/error.h"
 
 namespace radiosa {
 
 struct FormFactorRequest {
-    std::optional<std::string> method;  // --ff-method
-    std::optional<double> tolerance;    // --ff-tolerance
-    std::optional<int> gauss_points;    // --gauss-points: the paper's fixed rule
-    std::optional<bool> visibility;     // --no-visibility
-    bool culling = true;                // --no-culling (a diagnostic; bypasses the cache)
-    CacheSettings cache;                // --cache-dir, --no-cache
-    bool strict = false;                // --strict: intersecting surfaces and missed tolerances are errors
+    std::optional<std::string> method;         // --ff-method
+    std::optional<double> tolerance;           // --ff-tolerance
+    std::optional<double> receiver_tolerance;  // --ff-receiver-tolerance
+    std::optional<int> gauss_points;           // --gauss-points: the paper's fixed rule
+    std::optional<bool> visibility;            // --no-visibility
+    bool culling = true;                       // --no-culling (a diagnostic; bypasses the cache)
+    CacheSettings cache;                       // --cache-dir, --no-cache
+    bool strict = false;  // --strict: intersecting surfaces and missed tolerances are errors
     std::optional<double> solve_tolerance;  // --solve-tolerance: overrides the scene's solve: tolerance
 
     FormFactorOptions options_for(const Scene& scene) const {
         FormFactorOptions o =
             resolve_form_factor_options(scene.form_factors, method, tolerance, gauss_points, visibility);
         o.culling = culling;
+        if (receiver_tolerance) {
+            if (o.method != FormFactorMethod::Hierarchical)
+                throw Error(
+                    "--ff-receiver-tolerance belongs to the hierarchical method: add --ff-method "
+                    "hierarchical, or remove it");
+            o.receiver_tolerance = std::min(*receiver_tolerance, o.link_tolerance);
+        }
         return o;
     }
 };
