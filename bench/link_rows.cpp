@@ -1,14 +1,15 @@
-// radiosa_link_rows SCENE SURFACE IS IT [RECEIVER_TOLERANCE]: what each link into one patch's
+// radiosa_link_rows SCENE SURFACE IS IT [RECEIVER_TOLERANCE] [--links]: what each link into one patch's
 // row gives that patch, against the point-to-polygon formula integrated over the patch, level
 // by level up its ancestors (docs/scale.md, "Receiver tolerance"). For rooms of quads around at
 // most one whole ball, the seed scene's kind: the factor toward a quad node past the ball is
 // Lambert's formula less the ball's cap (formfactor/point_polygon.h), integrated at 16 x 16
 // points of the patch; links toward other surfaces are counted but not checked. The
 // hierarchy is built at the scene's link tolerance (default 2e-5) with the given receiver
-// tolerance (default none).
+// tolerance (default none). --links also lists each link off by more than 3e-6.
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -47,14 +48,20 @@ double patch_to_node(const SceneGeometry& g, const Patch& p, const HierarchyNode
 
 int run(int argc, char** argv) {
     if (argc < 5) {
-        std::fprintf(stderr, "usage: radiosa_link_rows SCENE SURFACE IS IT [RECEIVER_TOLERANCE]\n");
+        std::fprintf(stderr, "usage: radiosa_link_rows SCENE SURFACE IS IT [RECEIVER_TOLERANCE] [--links]\n");
         return 1;
     }
     const Scene scene = load_scene(argv[1]);
     const SceneGeometry g(scene);
     FormFactorOptions o = resolve_form_factor_options(scene.form_factors, "hierarchical", std::nullopt,
                                                       std::nullopt, std::nullopt);
-    if (argc > 5) o.receiver_tolerance = std::atof(argv[5]);
+    bool list = false;
+    for (int a = 5; a < argc; ++a) {
+        if (std::string(argv[a]) == "--links")
+            list = true;
+        else
+            o.receiver_tolerance = std::atof(argv[a]);
+    }
     std::optional<BoundingSphere> ball;
     for (int k = 0; k < g.surface_count(); ++k) {
         const Surface& s = g.surface(k);
@@ -98,8 +105,12 @@ int run(int argc, char** argv) {
         const auto check = [&](int source, double value) {
             const HierarchyNode& q = h.nodes[static_cast<std::size_t>(source)];
             if (!g.surface(q.surface).plane()) return;
-            given += value;
-            exact += patch_to_node(g, p, q, ball ? &*ball : nullptr, 16);
+            const double e = patch_to_node(g, p, q, ball ? &*ball : nullptr, 16);
+            if (list && std::abs(value - e) > 3e-6)
+                std::printf("  link from node %d (%s, %dx%d): %.4e, exact %.4e, %+.2e\n", source,
+                            scene.surfaces[static_cast<std::size_t>(q.surface)].name.c_str(), q.is1 - q.is0,
+                            q.it1 - q.it0, value, e, value - e);
+            given += value, exact += e;
             ++count;
         };
         for (auto l = h.first_link[static_cast<std::size_t>(r)];
