@@ -53,15 +53,16 @@ int run(int argc, char** argv) {
     }
     const Scene scene = load_scene(argv[1]);
     const SceneGeometry g(scene);
-    FormFactorOptions o = resolve_form_factor_options(scene.form_factors, "hierarchical", std::nullopt,
-                                                      std::nullopt, std::nullopt);
     bool list = false;
+    std::optional<double> receivers;
     for (int a = 5; a < argc; ++a) {
         if (std::string(argv[a]) == "--links")
             list = true;
         else
-            o.receiver_tolerance = std::atof(argv[a]);
+            receivers = std::atof(argv[a]);
     }
+    const FormFactorOptions o = resolve_form_factor_options(scene.form_factors, "hierarchical", std::nullopt,
+                                                            std::nullopt, std::nullopt, receivers);
     std::optional<BoundingSphere> ball;
     for (int k = 0; k < g.surface_count(); ++k) {
         const Surface& s = g.surface(k);

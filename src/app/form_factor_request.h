@@ -2,7 +2,6 @@
 // What a command asks of the form-factor stage: the command line's overrides of the scene's
 // form_factors block, and where the cache is. Shared by render (stills and sequences) and
 // formfactors.
-#include <algorithm>
 #include <optional>
 
 #include "cache/cache_file.h"
@@ -24,16 +23,13 @@ struct FormFactorRequest {
     std::optional<double> solve_tolerance;  // --solve-tolerance: overrides the scene's solve: tolerance
 
     FormFactorOptions options_for(const Scene& scene) const {
-        FormFactorOptions o =
-            resolve_form_factor_options(scene.form_factors, method, tolerance, gauss_points, visibility);
+        FormFactorOptions o = resolve_form_factor_options(scene.form_factors, method, tolerance, gauss_points,
+                                                          visibility, receiver_tolerance);
         o.culling = culling;
-        if (receiver_tolerance) {
-            if (o.method != FormFactorMethod::Hierarchical)
-                throw Error(
-                    "--ff-receiver-tolerance belongs to the hierarchical method: add --ff-method "
-                    "hierarchical, or remove it");
-            o.receiver_tolerance = std::min(*receiver_tolerance, o.link_tolerance);
-        }
+        if (receiver_tolerance && o.method != FormFactorMethod::Hierarchical)
+            throw Error(
+                "--ff-receiver-tolerance belongs to the hierarchical method: add --ff-method "
+                "hierarchical, or remove it");
         return o;
     }
 };

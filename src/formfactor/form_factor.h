@@ -92,8 +92,8 @@ struct FormFactorSettings;
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
                                               std::optional<std::string> method,
                                               std::optional<double> tolerance,
-                                              std::optional<int> gauss_points,
-                                              std::optional<bool> visibility);
+                                              std::optional<int> gauss_points, std::optional<bool> visibility,
+                                              std::optional<double> receiver_tolerance = std::nullopt);
 // "adaptive, tolerance 1e-06" or "Gauss p = 6 (1296 terms/pair)".
 std::string describe(const FormFactorOptions& o);
 

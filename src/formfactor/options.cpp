@@ -22,8 +22,8 @@ const char* method_name(FormFactorMethod m) {
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
                                               std::optional<std::string> method,
                                               std::optional<double> tolerance,
-                                              std::optional<int> gauss_points,
-                                              std::optional<bool> visibility) {
+                                              std::optional<int> gauss_points, std::optional<bool> visibility,
+                                              std::optional<double> receiver_tolerance) {
     // The command line first, then the scene file; either names one method. A command-line
     // tolerance keeps the scene's hierarchical method (it is then the links' tolerance).
     const std::string scene_method = scene.hierarchical   ? "hierarchical"
@@ -42,8 +42,11 @@ FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
         o = FormFactorOptions::hierarchical(own ? tol : kDefaultLinkTolerance);
     else
         o = FormFactorOptions::adaptive(own ? tol : kDefaultFormFactorTolerance);
-    if (m == "hierarchical" && scene.hierarchical && scene.receiver_tolerance)
-        o.receiver_tolerance = std::min(*scene.receiver_tolerance, o.link_tolerance);
+    // The command line's receiver tolerance, else the scene's; never above the link tolerance.
+    const std::optional<double> rt = receiver_tolerance   ? receiver_tolerance
+                                     : scene.hierarchical ? scene.receiver_tolerance
+                                                          : std::nullopt;
+    if (m == "hierarchical" && rt) o.receiver_tolerance = std::min(*rt, o.link_tolerance);
     o.visibility = visibility.value_or(scene.visibility);
     return o;
 }

@@ -175,6 +175,14 @@ SensorDesc read_sensor(const YAML::Node& node, const std::string& file, int inde
     return s;
 }
 
+// A form-factor tolerance: a number in [1e-12, 0.1].
+double read_tolerance(const YAML::Node& t, const std::string& file, const std::string& key) {
+    const double v = yaml_number(t, file, key);
+    if (!(v >= kMinFormFactorTolerance && v <= 0.1))
+        throw Error(loc_of(t, file), key + " must be in [1e-12, 0.1], got " + t.Scalar());
+    return v;
+}
+
 FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::string& file) {
     YamlMap m(node, file, "form_factors");
     FormFactorSettings f;
@@ -203,18 +211,14 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
             throw Error(loc_of(*t, file),
                         "form_factors: give tolerance (error-controlled) or gauss_points (the paper's "
                         "fixed rule), not both");
-        f.tolerance = yaml_number(*t, file, "tolerance");
-        if (!(*f.tolerance >= kMinFormFactorTolerance && *f.tolerance <= 0.1))
-            throw Error(loc_of(*t, file), "tolerance must be in [1e-12, 0.1], got " + t->Scalar());
+        f.tolerance = read_tolerance(*t, file, "tolerance");
     }
     if (auto t = m.optional("receiver_tolerance")) {
         if (!f.hierarchical)
             throw Error(loc_of(*t, file),
                         "receiver_tolerance belongs to method: hierarchical; add method: "
                         "hierarchical or remove it");
-        f.receiver_tolerance = yaml_number(*t, file, "receiver_tolerance");
-        if (!(*f.receiver_tolerance >= kMinFormFactorTolerance && *f.receiver_tolerance <= 0.1))
-            throw Error(loc_of(*t, file), "receiver_tolerance must be in [1e-12, 0.1], got " + t->Scalar());
+        f.receiver_tolerance = read_tolerance(*t, file, "receiver_tolerance");
         if (f.tolerance && *f.receiver_tolerance > *f.tolerance)
             throw Error(loc_of(*t, file), "receiver_tolerance must not exceed tolerance (" +
                                               m.optional("tolerance")->Scalar() + "), got " + t->Scalar());
