@@ -475,46 +475,22 @@ std::optional<SphericalCap> cap_around(const SceneGeometry& g, int i, const Plan
 }
 
 // Several occluders with closed-form shadows between two polygons, each wholly in front of
-// both planes (by more than rounding at the scene's scale) and none of them a side of either
-// patch's surface, whose shadows never overlap as seen from patch i: their bounding balls'
-// cones from every point of i are apart (shadows_apart). The two sides of a two-sided surface
-// are one occluder.
+// both planes and none of them a side of either patch's surface, whose shadows never overlap as
+// seen from patch i (occluders_apart).
 std::optional<std::vector<ShadowOccluder>> apart_occluders(const SceneGeometry& g, int i, int j,
                                                            const Plane& receiver,
                                                            const std::vector<int>& blockers) {
     const Patch &pi = g.patch(i), &pj = g.patch(j);
     const auto source = g.surface(pi.surface).plane();
     if (!pi.polygon || !pj.polygon || !source || blockers.size() > kMaxShadowBalls) return std::nullopt;
-    const double margin = 1e-9 * g.scale();
-    std::vector<ShadowOccluder> out;
-    std::vector<int> taken;
-    for (int k : blockers) {
+    for (int k : blockers)
         if (k == pi.surface || k == pj.surface) return std::nullopt;
-        if (std::find(taken.begin(), taken.end(), g.twin(k)) != taken.end()) continue;
-        const auto o = shadow_occluder(g.surface(k));
-        if (!o || !(min_signed_distance(*o, receiver.normal, receiver.offset) > margin) ||
-            !(min_signed_distance(*o, source->normal, source->offset) > margin))
-            return std::nullopt;
-        for (int l : taken)
-            if (!shadows_apart(pi.bound, g.surface_bound(l), g.surface_bound(k))) return std::nullopt;
-        taken.push_back(k);
-        out.push_back(*o);
-    }
-    if (out.empty()) return std::nullopt;
+    auto out = occluders_apart(g, blockers, pi.bound, receiver, *source);
+    if (!out || out->empty()) return std::nullopt;
     return out;
 }
 
 }  // namespace
-
-bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b) {
-    const Vec3 da = a.center - patch.center, db = b.center - patch.center;
-    const double la = glm::length(da), lb = glm::length(db);
-    if (!(la - patch.radius > a.radius && lb - patch.radius > b.radius)) return false;
-    const double apart = std::acos(std::clamp(glm::dot(da, db) / (la * lb), -1.0, 1.0));
-    const double turn = std::asin(patch.radius / la) + std::asin(patch.radius / lb);
-    const double wide = std::asin(a.radius / (la - patch.radius)) + std::asin(b.radius / (lb - patch.radius));
-    return apart - turn - wide > 1e-9;
-}
 
 std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int j,
                                               const std::vector<int>& blockers, bool visibility) {

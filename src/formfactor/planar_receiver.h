@@ -48,13 +48,6 @@ struct PlanarReceiver {
 // At most this many balls between a pair.
 inline constexpr std::size_t kMaxShadowBalls = 8;
 
-// Whether two balls' shadows are apart from every point x of a patch in the ball `patch`
-// (centre p, radius rho): from x, the directions to their centres must be further apart than
-// the sum of the balls' angular radii. From x instead of p, the direction to a centre at
-// distance L turns by at most asin(rho / L), and a ball of radius r looks at most
-// asin(r / (L - rho)) wide.
-bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b);
-
 // Whether F_ij can take this path: j must be planar and nothing may block the pair except balls
 // that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
 // most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk

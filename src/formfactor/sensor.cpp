@@ -11,7 +11,6 @@
 #include "formfactor/contour_receiver.h"
 #include "formfactor/cubature.h"
 #include "formfactor/disk_shadow.h"
-#include "formfactor/planar_receiver.h"
 #include "formfactor/point_polygon.h"
 #include "formfactor/shadow_occluder.h"
 #include "formfactor/spherical_region.h"
@@ -151,22 +150,11 @@ std::optional<ContourValue> by_shadow(const SceneGeometry& g, const Vec3& x, con
     // Whole balls, disks, tubes or cones and caps whose shadows never overlap as seen from x
     // (shadows_apart on their bounding balls, from the point x): the parts they hide add up.
     // The two sides of a two-sided surface are one occluder.
-    std::vector<ShadowOccluder> occluders;
-    std::vector<int> taken;
-    for (int k : blockers) {
-        if (std::find(taken.begin(), taken.end(), g.twin(k)) != taken.end()) continue;
-        const auto o = shadow_occluder(g.surface(k));
-        if (!o || !(min_signed_distance(*o, plane->normal, plane->offset) > margin) ||
-            !(min_signed_distance(*o, n, glm::dot(n, x)) > margin))
-            return std::nullopt;
-        for (int l : taken)
-            if (!shadows_apart(BoundingSphere{x, 0.0}, g.surface_bound(l), g.surface_bound(k)))
-                return std::nullopt;
-        taken.push_back(k);
-        occluders.push_back(*o);
-    }
+    const auto occluders =
+        occluders_apart(g, blockers, BoundingSphere{x, 0.0}, *plane, Plane{n, glm::dot(n, x)});
+    if (!occluders) return std::nullopt;
     double hidden = 0.0;
-    for (const ShadowOccluder& o : occluders) hidden += hidden_by(o, x, n, v, &c.error);
+    for (const ShadowOccluder& o : *occluders) hidden += hidden_by(o, x, n, v, &c.error);
     c.value = std::max(0.0, point_to_polygon(x, n, v.data(), 4, nullptr) - hidden);
     return c;
 }

@@ -1,5 +1,8 @@
 #include "formfactor/shadow_occluder.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "formfactor/cap_shadow.h"
 #include "formfactor/disk_shadow.h"
 #include "formfactor/point_polygon.h"
@@ -50,6 +53,37 @@ double min_signed_distance(const ShadowOccluder& occ, const Vec3& m, double o) {
     if (const auto* d = std::get_if<FlatDisk>(&occ)) return disk_min_signed_distance(*d, m, o);
     if (const auto* t = std::get_if<RoundFrustum>(&occ)) return tube_min_signed_distance(*t, m, o);
     return cap_min_signed_distance(std::get<SphericalCap>(occ), m, o);
+}
+
+bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b) {
+    const Vec3 da = a.center - patch.center, db = b.center - patch.center;
+    const double la = glm::length(da), lb = glm::length(db);
+    if (!(la - patch.radius > a.radius && lb - patch.radius > b.radius)) return false;
+    const double apart = std::acos(std::clamp(glm::dot(da, db) / (la * lb), -1.0, 1.0));
+    const double turn = std::asin(patch.radius / la) + std::asin(patch.radius / lb);
+    const double wide = std::asin(a.radius / (la - patch.radius)) + std::asin(b.radius / (lb - patch.radius));
+    return apart - turn - wide > 1e-9;
+}
+
+std::optional<std::vector<ShadowOccluder>> occluders_apart(const SceneGeometry& g,
+                                                           const std::vector<int>& blockers,
+                                                           const BoundingSphere& from, const Plane& a,
+                                                           const Plane& b) {
+    const double margin = 1e-9 * g.scale();
+    std::vector<ShadowOccluder> out;
+    std::vector<int> taken;
+    for (int k : blockers) {
+        if (std::find(taken.begin(), taken.end(), g.twin(k)) != taken.end()) continue;
+        const auto o = shadow_occluder(g.surface(k));
+        if (!o || !(min_signed_distance(*o, a.normal, a.offset) > margin) ||
+            !(min_signed_distance(*o, b.normal, b.offset) > margin))
+            return std::nullopt;
+        for (int l : taken)
+            if (!shadows_apart(from, g.surface_bound(l), g.surface_bound(k))) return std::nullopt;
+        taken.push_back(k);
+        out.push_back(*o);
+    }
+    return out;
 }
 
 }  // namespace radiosa

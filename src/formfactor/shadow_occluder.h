@@ -8,7 +8,9 @@
 #include <optional>
 #include <span>
 #include <variant>
+#include <vector>
 
+#include "geometry/scene_geometry.h"
 #include "surfaces/surface.h"
 #include "util/math.h"
 
@@ -35,5 +37,22 @@ bool hull_meets(std::span<const Vec3> hull, const ShadowOccluder& o);
 
 // The least signed distance of the occluder from the plane (unit normal m, offset o).
 double min_signed_distance(const ShadowOccluder& occ, const Vec3& m, double o);
+
+// Whether two balls' shadows are apart from every point x of a patch in the ball `patch`
+// (centre p, radius rho): from x, the directions to their centres must be further apart than
+// the sum of the balls' angular radii. From x instead of p, the direction to a centre at
+// distance L turns by at most asin(rho / L), and a ball of radius r looks at most
+// asin(r / (L - rho)) wide.
+bool shadows_apart(const BoundingSphere& patch, const BoundingSphere& a, const BoundingSphere& b);
+
+// The surfaces `blockers` as occluders whose shadows never overlap as seen from any point of the
+// ball `from` (a patch's bound, or a point: radius 0): each has a closed-form shadow
+// (shadow_occluder), lies wholly in front of both planes by more than 1e-9 of the scene's size,
+// and their bounding balls' shadows are apart (shadows_apart). The two sides of a two-sided
+// surface are one occluder. nullopt when one of them is not such an occluder or two may overlap.
+std::optional<std::vector<ShadowOccluder>> occluders_apart(const SceneGeometry& g,
+                                                           const std::vector<int>& blockers,
+                                                           const BoundingSphere& from, const Plane& a,
+                                                           const Plane& b);
 
 }  // namespace radiosa
