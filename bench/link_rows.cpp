@@ -46,6 +46,42 @@ double patch_to_node(const SceneGeometry& g, const Patch& p, const HierarchyNode
     return sum / (n * n);
 }
 
+// What the links into receiver node r give patch p, what they should (patch_to_node), and how
+// many there are; with `list`, each link off by more than 3e-6 is printed.
+struct NodeRow {
+    double given = 0.0, exact = 0.0;
+    int count = 0;
+};
+NodeRow node_row(const Scene& scene, const SceneGeometry& g, const Hierarchy& h, int r, const Patch& p,
+                 const BoundingSphere* ball, bool list) {
+    const HierarchyNode& n = h.nodes[static_cast<std::size_t>(r)];
+    const Rect rr = node_rect(g, n);
+    // The patch's means of u and v over the node (the receiver's plane at the patch).
+    const double mu = (p.s0 + p.s1 - rr.s0 - rr.s1) / (rr.s1 - rr.s0),
+                 mv = (p.t0 + p.t1 - rr.t0 - rr.t1) / (rr.t1 - rr.t0);
+    NodeRow row;
+    const auto check = [&](int source, double value) {
+        const HierarchyNode& q = h.nodes[static_cast<std::size_t>(source)];
+        if (!g.surface(q.surface).plane()) return;
+        const double e = patch_to_node(g, p, q, ball, 16);
+        if (list && std::abs(value - e) > 3e-6)
+            std::printf("  link from node %d (%s, %dx%d): %.4e, exact %.4e, %+.2e\n", source,
+                        scene.surfaces[static_cast<std::size_t>(q.surface)].name.c_str(), q.is1 - q.is0,
+                        q.it1 - q.it0, value, e, value - e);
+        row.given += value, row.exact += e;
+        ++row.count;
+    };
+    for (auto l = h.first_link[static_cast<std::size_t>(r)];
+         l < h.first_link[static_cast<std::size_t>(r) + 1]; ++l) {
+        const Link& k = h.links[static_cast<std::size_t>(l)];
+        check(k.source, k.f + k.gs * (mu - n.cu) + k.gt * (mv - n.cv));
+    }
+    for (auto l = h.first_pair_link[static_cast<std::size_t>(r)];
+         l < h.first_pair_link[static_cast<std::size_t>(r) + 1]; ++l)
+        check(h.pair_links[static_cast<std::size_t>(l)].source, h.pair_links[static_cast<std::size_t>(l)].f);
+    return row;
+}
+
 int run(int argc, char** argv) {
     if (argc < 5) {
         std::fprintf(stderr, "usage: radiosa_link_rows SCENE SURFACE IS IT [RECEIVER_TOLERANCE] [--links]\n");
@@ -97,37 +133,12 @@ int run(int argc, char** argv) {
     for (int r = h.leaf_of_patch[static_cast<std::size_t>(patch)]; r >= 0;
          r = parent[static_cast<std::size_t>(r)]) {
         const HierarchyNode& n = h.nodes[static_cast<std::size_t>(r)];
-        const Rect rr = node_rect(g, n);
-        // The patch's means of u and v over the node (the receiver's plane at the patch).
-        const double mu = (p.s0 + p.s1 - rr.s0 - rr.s1) / (rr.s1 - rr.s0),
-                     mv = (p.t0 + p.t1 - rr.t0 - rr.t1) / (rr.t1 - rr.t0);
-        double given = 0.0, exact = 0.0;
-        int count = 0;
-        const auto check = [&](int source, double value) {
-            const HierarchyNode& q = h.nodes[static_cast<std::size_t>(source)];
-            if (!g.surface(q.surface).plane()) return;
-            const double e = patch_to_node(g, p, q, ball ? &*ball : nullptr, 16);
-            if (list && std::abs(value - e) > 3e-6)
-                std::printf("  link from node %d (%s, %dx%d): %.4e, exact %.4e, %+.2e\n", source,
-                            scene.surfaces[static_cast<std::size_t>(q.surface)].name.c_str(), q.is1 - q.is0,
-                            q.it1 - q.it0, value, e, value - e);
-            given += value, exact += e;
-            ++count;
-        };
-        for (auto l = h.first_link[static_cast<std::size_t>(r)];
-             l < h.first_link[static_cast<std::size_t>(r) + 1]; ++l) {
-            const Link& k = h.links[static_cast<std::size_t>(l)];
-            check(k.source, k.f + k.gs * (mu - n.cu) + k.gt * (mv - n.cv));
-        }
-        for (auto l = h.first_pair_link[static_cast<std::size_t>(r)];
-             l < h.first_pair_link[static_cast<std::size_t>(r) + 1]; ++l)
-            check(h.pair_links[static_cast<std::size_t>(l)].source,
-                  h.pair_links[static_cast<std::size_t>(l)].f);
-        if (count > 0)
+        const NodeRow row = node_row(scene, g, h, r, p, ball ? &*ball : nullptr, list);
+        if (row.count > 0)
             std::printf("%-8d %-7s %6d %12.4e %12.4e %+12.3e\n", r,
-                        fmt::format("{}x{}", n.is1 - n.is0, n.it1 - n.it0).c_str(), count, given, exact,
-                        given - exact);
-        total += given, total_exact += exact;
+                        fmt::format("{}x{}", n.is1 - n.is0, n.it1 - n.it0).c_str(), row.count, row.given,
+                        row.exact, row.given - row.exact);
+        total += row.given, total_exact += row.exact;
     }
     std::printf(
         "toward the quads: %.6e, exact %.6e, difference %+.3e (pairs of touching patches: the\n"
