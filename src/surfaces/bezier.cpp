@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "surfaces/registry.h"
+#include "util/bernstein.h"
 #include "util/gauss_legendre.h"
 
 namespace radiosa {
@@ -336,6 +337,110 @@ std::pair<double, double> BezierSurface::linear_range(const Vec3& a, double s0, 
     }
     const double pad = 1e-14 * glm::length(a) * m_size;
     return {lo - pad, hi + pad};
+}
+
+bool BezierSurface::patch_contour(double s0, double s1, double t0, double t1,
+                                  std::vector<ContourPiece>* out) const {
+    // Row by row: point (i, j) of the sub-patch is cp[4 j + i], i along s. Counter-clockwise in
+    // (s, t) is counter-clockwise about dP/ds x dP/dt, the front normal.
+    const std::array<Vec3, 16> cp = sub_patch(s0, s1, t0, t1);
+    auto at = [&](int i, int j) { return cp[static_cast<std::size_t>(4 * j + i)]; };
+    out->clear();
+    auto curve = [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+        ContourPiece p;
+        p.cubic = true;
+        p.q = {a, b, c, d};
+        p.a = a;
+        p.b = d;
+        out->push_back(p);
+    };
+    curve(at(0, 0), at(1, 0), at(2, 0), at(3, 0));
+    curve(at(3, 0), at(3, 1), at(3, 2), at(3, 3));
+    curve(at(3, 3), at(2, 3), at(1, 3), at(0, 3));
+    curve(at(0, 3), at(0, 2), at(0, 1), at(0, 0));
+    return true;
+}
+
+namespace {
+
+// a + b . x: a Bernstein coefficient of a polynomial in (s, t) that also depends on a point x.
+struct AffineInX {
+    double a = 0.0;
+    Vec3 b{0.0};
+    AffineInX& operator+=(const AffineInX& o) {
+        a += o.a;
+        b += o.b;
+        return *this;
+    }
+};
+AffineInX operator*(double w, const AffineInX& v) { return {w * v.a, w * v.b}; }
+
+// +1 when every coefficient is above `slack` at every point x, -1 when every one is below
+// -slack, else 0. Affine in x, a coefficient is then so over the points' convex hull.
+int sign_everywhere(const Bernstein2<AffineInX>& f, std::span<const Vec3> from, double slack) {
+    int sign = 0;
+    for (const AffineInX& c : f.c)
+        for (const Vec3& x : from) {
+            const double v = c.a + glm::dot(c.b, x);
+            const int s = v > slack ? 1 : v < -slack ? -1 : 0;
+            if (s == 0 || (sign != 0 && s != sign)) return 0;
+            sign = s;
+        }
+    return sign;
+}
+
+}  // namespace
+
+int BezierSurface::seen_once_from(std::span<const Vec3> from, double s0, double s1, double t0,
+                                  double t1) const {
+    if (from.empty()) return 0;
+    const std::array<Vec3, 16> cp = sub_patch(s0, s1, t0, t1);
+    Bernstein2<Vec3> p(3, 3, Vec3(0.0));
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) p.at(i, j) = cp[static_cast<std::size_t>(4 * j + i)];
+    const Bernstein2<Vec3> ps = bernstein_ds(p), pt = bernstein_dt(p);
+    // The projection's frame: w from the points' mean toward the part's middle, e1 along dP/ds
+    // there. Its Jacobian there is then triangular, so the signs below are consistent with one
+    // orientation of the plane.
+    Vec3 mean(0.0);
+    double reach = m_size;
+    for (const Vec3& x : from) {
+        mean += x / static_cast<double>(from.size());
+        reach = std::max(reach, glm::length(x - m_cp[0]) + m_size);
+    }
+    Vec3 dps, dpt;
+    partials(0.5 * (s0 + s1), 0.5 * (t0 + t1), &dps, &dpt);
+    const Vec3 to = point(0.5 * (s0 + s1), 0.5 * (t0 + t1)) - mean;
+    if (!(glm::length(to) > 1e-9 * reach)) return 0;
+    const Vec3 w = glm::normalize(to);
+    const Vec3 along = dps - glm::dot(dps, w) * w;
+    if (!(glm::length(along) > 1e-6 * glm::length(dps))) return 0;
+    const Vec3 e1 = glm::normalize(along), e2 = glm::cross(w, e1);
+    // Coefficients are rounded by a few ulps of terms up to reach^k.
+    auto slack = [&](int k) { return 1e-10 * std::pow(reach, k); };
+    // d = (P - x) . w > 0: the projection onto the plane normal to w is defined.
+    Bernstein2<AffineInX> d(3, 3, AffineInX{});
+    for (std::size_t k = 0; k < d.c.size(); ++k) d.c[k] = AffineInX{glm::dot(p.c[k], w), -w};
+    if (sign_everywhere(d, from, slack(1)) != 1) return 0;
+    // d^2 du/ds = ((P - x) x dP/ds) . e2 and -d^2 dv/dt = ((P - x) x dP/dt) . e1.
+    auto crossed_with = [](const Vec3& e) {
+        return [e](const Vec3& q, const Vec3& dq) {
+            return AffineInX{glm::dot(glm::cross(q, dq), e), -glm::cross(dq, e)};
+        };
+    };
+    const int du = sign_everywhere(bernstein_product(p, ps, crossed_with(e2)), from, slack(2));
+    const int dv = sign_everywhere(bernstein_product(p, pt, crossed_with(e1)), from, slack(2));
+    // d^3 det J = (P - x) . (dP/ds x dP/dt).
+    const Bernstein2<Vec3> n =
+        bernstein_product(ps, pt, [](const Vec3& a, const Vec3& b) { return glm::cross(a, b); });
+    const int side = sign_everywhere(bernstein_product(n, p,
+                                                       [](const Vec3& nn, const Vec3& q) {
+                                                           return AffineInX{glm::dot(nn, q), -nn};
+                                                       }),
+                                     from, slack(3));
+    // diag(du, -dv) J has a positive diagonal; its determinant, -du dv det J, must be positive too.
+    if (du == 0 || dv == 0 || side == 0 || du * dv * side != -1) return 0;
+    return side < 0 ? 1 : -1;  // n . (x - P) > 0: the points see the front
 }
 
 void BezierSurface::write_key(ByteWriter& w) const {

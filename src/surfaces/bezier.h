@@ -29,6 +29,15 @@ public:
     bool chords_never_cross() const override { return false; }
     bool front_segments_escape() const override { return false; }
     bool sees_itself() const override { return true; }
+    // The four boundary curves of the sub-patch, each a cubic Bezier curve.
+    bool patch_contour(double s0, double s1, double t0, double t1,
+                       std::vector<ContourPiece>* out) const override;
+    // Proven from the sub-patch's control points: the central projection from every point x of
+    // the hull is defined (all of it in front of x along one direction) and its Jacobian is a
+    // P-matrix after a fixed change of sign, so by Gale and Nikaido's theorem the projection is
+    // one to one on the rectangle. Each condition is a polynomial whose Bernstein coefficients
+    // are affine in x: checked at the hull's points.
+    int seen_once_from(std::span<const Vec3> from, double s0, double s1, double t0, double t1) const override;
     bool pole_at_t0() const override { return m_pole_t0; }
     bool pole_at_t1() const override { return m_pole_t1; }
     void write_key(ByteWriter& w) const override;

@@ -77,13 +77,24 @@ bool PlacedSurface::patch_contour(double s0, double s1, double t0, double t1,
         c.e1 = m_xf.rotate * c.e1;
         c.e2 = m_xf.rotate * c.e2;
         c.radius *= m_xf.scale;
+        for (Vec3& q : c.q) q = m_xf.apply(q);
         if (m_back) {
             std::swap(c.a, c.b);
             std::swap(c.from, c.to);
+            std::reverse(c.q.begin(), c.q.end());
         }
     }
     if (m_back) std::reverse(out->begin(), out->end());
     return true;
+}
+
+int PlacedSurface::seen_once_from(std::span<const Vec3> from, double s0, double s1, double t0,
+                                  double t1) const {
+    const Mat3 inv = glm::transpose(m_xf.rotate);
+    std::vector<Vec3> inner;
+    inner.reserve(from.size());
+    for (const Vec3& x : from) inner.push_back(inv * (x - m_xf.translate) / m_xf.scale);
+    return (m_back ? -1 : 1) * m_inner->seen_once_from(inner, s0, s1, t0, t1);
 }
 
 std::optional<ConvexSolid> PlacedSurface::convex_solid() const {

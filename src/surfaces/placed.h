@@ -67,6 +67,8 @@ public:
     }
     bool patch_contour(double s0, double s1, double t0, double t1,
                        std::vector<ContourPiece>* out) const override;
+    // The points taken into the inner surface's frame; the side flips on the back.
+    int seen_once_from(std::span<const Vec3> from, double s0, double s1, double t0, double t1) const override;
     std::optional<ConvexSolid> convex_solid() const override;
     std::optional<FlatDisk> flat_disk() const override;
     std::optional<RoundFrustum> round_frustum() const override;

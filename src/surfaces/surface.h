@@ -4,9 +4,11 @@
 // sphere.cpp, ...) and is listed once in registry.cpp. Curved surfaces are never replaced by polygons
 // anywhere in radiosa.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -85,12 +87,15 @@ struct SphericalCap {
 };
 
 // A piece of a patch's boundary: the segment from a to b, or the arc
-// center + radius (cos u e1 + sin u e2) for u running from `from` to `to` (either order).
+// center + radius (cos u e1 + sin u e2) for u running from `from` to `to` (either order), or the
+// cubic Bezier curve with control points q (from q[0] = a to q[3] = b).
 struct ContourPiece {
     bool arc = false;
+    bool cubic = false;
     Vec3 a{0.0}, b{0.0};
     Vec3 center{0.0}, e1{0.0}, e2{0.0};
     double radius = 0.0, from = 0.0, to = 0.0;
+    std::array<Vec3, 4> q{};
 };
 
 class Surface {
@@ -181,7 +186,8 @@ public:
     // True when a patch can see another patch of the same surface (concave side in front).
     virtual bool sees_itself() const = 0;
     // The boundary of the parameter rectangle, run counter-clockwise about the front normal,
-    // when it is made of segments and circle arcs (disk sectors, cylinder patches): the contour
+    // when it is made of segments, circle arcs and cubic curves (disk sectors, cylinder patches,
+    // Bezier patches): the contour
     // form of the inner form-factor integral (formfactor/contour_receiver.h). False otherwise.
     virtual bool patch_contour(double, double, double, double, std::vector<ContourPiece>*) const {
         return false;
@@ -221,6 +227,13 @@ public:
     // the surface hiding another from it.
     virtual bool faces_ball(double, double, double, double, const BoundingSphere&, bool /*back*/) const {
         return false;
+    }
+    // Whether every ray from any point of the convex hull of `from` meets the parameter
+    // rectangle at most once, all of it in front of those points' projection and none of it
+    // seen edge-on: +1 when they see its front, -1 when they see its back, 0 when not proven
+    // (the default). Then a segment from such a point to the part meets it only at its end.
+    virtual int seen_once_from(std::span<const Vec3> /*from*/, double, double, double, double) const {
+        return 0;
     }
     // The same two answers for the surface's back side (two-sided surfaces, surfaces/placed.h).
     // The defaults are the safe ones: more occlusion tests and self pairs, never a wrong value.
