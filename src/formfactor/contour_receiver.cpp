@@ -4,16 +4,44 @@
 #include <cmath>
 #include <limits>
 
+#include "util/gauss_kronrod.h"
+
 namespace radiosa {
+
+namespace {
+
+// The integral of n . (r x dr) / |r|^2 along the cubic Bezier curve with control points q, r its
+// point less x, by adaptive Gauss-Kronrod rules: the curve keeps clear of x on this path.
+ContourValue cubic_integral(const std::array<Vec3, 4>& q, const Vec3& x, const Vec3& n, double tol) {
+    const Vec3 d0 = 3.0 * (q[1] - q[0]), d1 = 3.0 * (q[2] - q[1]), d2 = 3.0 * (q[3] - q[2]);
+    auto f = [&](double u) {
+        const double v = 1.0 - u;
+        const Vec3 r =
+            v * v * v * q[0] + 3.0 * u * v * v * q[1] + 3.0 * u * u * v * q[2] + u * u * u * q[3] - x;
+        const Vec3 dr = v * v * d0 + 2.0 * u * v * d1 + u * u * d2;
+        const double rr = glm::dot(r, r);
+        return rr > 0.0 ? glm::dot(n, glm::cross(r, dr)) / rr : 0.0;
+    };
+    const Integral1D v = adaptive_kronrod(f, 0.0, 1.0, tol);
+    return ContourValue{v.value, v.error};
+}
+
+}  // namespace
 
 ContourValue point_to_contour(const Vec3& x, const Vec3& n, const std::vector<ContourPiece>& pieces,
                               double tol) {
     const double eps = std::numeric_limits<double>::epsilon();
     std::size_t arcs = 0;
-    for (const ContourPiece& p : pieces) arcs += p.arc ? 1 : 0;
+    for (const ContourPiece& p : pieces) arcs += p.arc || p.cubic ? 1 : 0;
     const double arc_tol = tol * 2 * kPi / static_cast<double>(std::max<std::size_t>(1, arcs));
     double sum = 0.0, err = 0.0;
     for (const ContourPiece& p : pieces) {
+        if (p.cubic) {
+            const ContourValue v = cubic_integral(p.q, x, n, arc_tol);
+            sum += v.value;
+            err += v.error;
+            continue;
+        }
         if (!p.arc) {
             // Along a segment r x dr = a x b du, and the integral of du / |r|^2 is the angle the
             // segment subtends over |a x b|.
@@ -77,12 +105,23 @@ std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, i
     const double eps = 1e-12 * g.scale();
     how.contains_x = i == j;
     if (i == j && !convex_from_inside(sj)) return std::nullopt;
-    // Nothing in between: a segment between points inside a convex solid stays inside it.
+    // Whether every ray from polygon i meets the whole of j's surface at most once
+    // (Surface::seen_once_from, a Bezier patch seen from a wall): +1 when i sees its front, -1
+    // its back, 0 when not proven. Asked once, and only of a curved surface.
+    std::optional<int> once;
+    auto seen_once = [&] {
+        if (!once) once = pi.polygon && !sj.plane() ? sj.seen_once_from(pi.corners, 0.0, 1.0, 0.0, 1.0) : 0;
+        return *once;
+    };
+    // Nothing in between: a segment between points inside a convex solid stays inside it, and a
+    // segment from x to a point of a surface x sees once meets it only there.
     if (visibility)
         for (const int k : blockers) {
-            const bool clear = k == pi.surface && k == pj.surface
-                                   ? g.surface(k).chords_never_cross()
-                                   : inside_solid(g, pi, k) && inside_solid(g, pj, k);
+            const bool own = k == pj.surface || (g.twin(k) >= 0 && g.twin(k) == pj.surface);
+            const bool clear =
+                (k == pi.surface && k == pj.surface ? g.surface(k).chords_never_cross()
+                                                    : inside_solid(g, pi, k) && inside_solid(g, pj, k)) ||
+                (own && k != pi.surface && seen_once() != 0);
             if (!clear) return std::nullopt;
         }
     // All of j in front of the tangent plane of every x.
@@ -96,8 +135,9 @@ std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, i
     if (const auto p = sj.plane()) {
         if (si.linear_range(p->normal, pi.s0, pi.s1, pi.t0, pi.t1).first < p->offset - eps)
             return std::nullopt;
-    } else if (!(convex_from_inside(sj) ? inside_solid(g, pi, pj.surface)
-                                        : sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false))) {
+    } else if (!(convex_from_inside(sj)
+                     ? inside_solid(g, pi, pj.surface)
+                     : sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false) || seen_once() == 1)) {
         return std::nullopt;
     }
     return how;

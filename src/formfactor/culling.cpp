@@ -54,9 +54,18 @@ bool Culling::culled(int i, int j) const {
     if (m_geo.twin(pi.surface) == pj.surface && m_geo.surface(pi.surface).chords_never_cross()) return true;
     if (auto pl = m_geo.surface(pi.surface).plane(); pl && extent(m_geo, pj, *pl).second <= m_eps)
         return true;
+    // A polygon that sees only the back of a curved patch (Surface::seen_once_from): every
+    // point of each lies behind the other's tangent planes.
+    if (sees_only_back(pi, pj) || sees_only_back(pj, pi)) return true;
     if (auto pl = m_geo.surface(pj.surface).plane(); pl && extent(m_geo, pi, *pl).second <= m_eps)
         return true;
     return false;
+}
+
+bool Culling::sees_only_back(const Patch& a, const Patch& b) const {
+    const Surface& sb = m_geo.surface(b.surface);
+    return a.polygon && !sb.plane() && !sb.sphere() &&
+           sb.seen_once_from(a.corners, b.s0, b.s1, b.t0, b.t1) == -1;
 }
 
 // True when surface s provably keeps clear of every segment between the two polygon

@@ -43,6 +43,8 @@ public:
 
 private:
     bool hull_misses(const Patch& pi, const Patch& pj, const Surface& s) const;
+    // Polygon a sees only the back of curved patch b, from each of its points.
+    bool sees_only_back(const Patch& a, const Patch& b) const;
     bool slab_separates(int i, int j, int k) const;
     const SceneGeometry& m_geo;
     double m_eps;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "../tests/test_scenes.h"
+#include "formfactor/analytic.h"
 #include "formfactor/form_factor.h"
 #include "formfactor/sensor.h"
 #include "geometry/scene_geometry.h"
@@ -476,9 +477,84 @@ TEST(CurvedSurfaces, FlatBezierPatchMatchesTheParallelSquares) {
             "1], reflectance: [0.5, 0.5, 0.5]}\n",
         "sheet.yaml");
     const FormFactors ff = adaptive(scene, 1e-7);
+    // The pair takes the contour of the sheet's boundary (seen once from the quad); only the
+    // sheet's self pair (a Bezier patch may see itself) is numeric.
+    EXPECT_EQ(ff.stats.semi_analytic, 1);
+    EXPECT_EQ(ff.stats.numeric, 1);
+    EXPECT_EQ(ff.F(0, 0), 0.0);
     EXPECT_NEAR(ff.F(0, 1), 0.19982489569838737, 1e-7);
     EXPECT_NEAR(ff.F(1, 0), 0.19982489569838737, 1e-7);
     EXPECT_LE(std::abs(ff.F(0, 1) - 0.19982489569838737), err_of(ff, 0, 1) + 1e-12);
+}
+
+TEST(CurvedSurfaces, ABezierSheetSeenOnceFromAPolygonTakesItsContour) {
+    // A bump (edges the square [-0.5, 0.5]^2 at z = 0, the inner four control points raised 0.2),
+    // two-sided and split 2 x 2, 1 above a floor [-1, 1]^2. Every ray from the floor meets it once
+    // (Bezier.SeenOnce*), so each floor-to-back pair takes the contour path (its four boundary
+    // cubics) and each floor-to-front pair is culled.
+    std::string cp;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            const bool inner = (i == 1 || i == 2) && (j == 1 || j == 2);
+            cp += (cp.empty() ? "[" : ", [") + std::to_string(-0.5 + j / 3.0) + ", " +
+                  std::to_string(-0.5 + i / 3.0) + ", " + (inner ? "0.2" : "0") + "]";
+        }
+    const Scene scene = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: floor, type: quad, corners: [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1]], "
+        "patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n"
+        "  - {name: sheet, type: bezier, control_points: [" +
+            cp + "], patches: [2, 2], reflectance: [0.5, 0.5, 0.5], two_sided: true}\n",
+        "bump.yaml");
+    const SceneGeometry g(scene);
+    ASSERT_EQ(g.patch_count(), 9);
+    const FormFactorRows rows(g, FormFactorOptions::adaptive(1e-10, true));
+    FormFactorStats st;
+    const GaussRule gl = gauss_legendre(24);
+    const Surface& back = g.surface(2);
+    double sum = 0.0;
+    for (int j = 1; j < 9; ++j) {
+        const PairEntries e = rows.pair(0, j, &st);
+        if (j < 5) {
+            EXPECT_EQ(e.f_ij, 0.0);  // the floor sees only the front's back
+            continue;
+        }
+        sum += e.f_ij;
+        // Lambert's kernel by a 24-point rule along each of the four axes (the integrand is smooth:
+        // the two are a distance 1 apart); seen once, nothing hides any part of the patch.
+        const Patch& pj = g.patch(j);
+        double ref = 0.0;
+        for (std::size_t a = 0; a < gl.x.size(); ++a)
+            for (std::size_t b = 0; b < gl.x.size(); ++b) {
+                const Vec3 x(gl.x[a], gl.x[b], -1.0);
+                const double wx = gl.w[a] * gl.w[b];
+                for (std::size_t c = 0; c < gl.x.size(); ++c)
+                    for (std::size_t d = 0; d < gl.x.size(); ++d) {
+                        const double s = pj.s0 + 0.5 * (pj.s1 - pj.s0) * (1 + gl.x[c]);
+                        const double t = pj.t0 + 0.5 * (pj.t1 - pj.t0) * (1 + gl.x[d]);
+                        const Vec3 r = back.point(s, t) - x, n = back.normal(s, t);
+                        const double rr = glm::dot(r, r);
+                        ref += wx * gl.w[c] * gl.w[d] * 0.25 * (pj.s1 - pj.s0) * (pj.t1 - pj.t0) * r.z *
+                               -glm::dot(n, r) / (kPi * rr * rr);
+                    }
+            }
+        ref /= 4.0;  // the floor's area; its 2 x 2 Jacobian is 1
+        EXPECT_NEAR(e.f_ij, ref, 1e-9) << "patch " << j;
+        EXPECT_LE(std::abs(e.f_ij - ref), e.e_ij + 1e-13) << "patch " << j;
+        EXPECT_LE(e.e_ij, 1e-9);
+    }
+    EXPECT_EQ(st.numeric, 0);
+    EXPECT_EQ(st.semi_analytic, 4);
+    EXPECT_EQ(st.pairs_culled, 4);
+    // The sheet's boundary is the flat square [-0.5, 0.5]^2 at z = 0, and a surface seen once
+    // subtends what its boundary bounds: the four add up to the floor's factor to that square.
+    double square = 0.0;
+    for (std::size_t a = 0; a < gl.x.size(); ++a)
+        for (std::size_t b = 0; b < gl.x.size(); ++b)
+            square += gl.w[a] * gl.w[b] *
+                      analytic::point_to_parallel_rectangle(gl.x[a], gl.x[b], -0.5, 0.5, -0.5, 0.5, 1.0) /
+                      4.0;
+    EXPECT_NEAR(sum, square, 1e-9);
 }
 
 TEST(CurvedSurfaces, TorusInABoxCloses) {
@@ -507,6 +583,31 @@ Scene sensor_scene(const std::string& surfaces) {
     return parse_scene("closed: false\nsurfaces:\n" + surfaces, "s.yaml");
 }
 }  // namespace
+
+TEST(Sensor, UnderABezierBumpSeesWhatItsBoundaryBounds) {
+    // The bump of CurvedSurfaces.ABezierSheetSeenOnce..., two-sided, 1 above the sensor: seen once,
+    // its back's four patches subtend what its boundary, the square [-0.5, 0.5]^2 at z = 0, does
+    // (Howell B-3, superposed), each by its contour; the front's patches are behind it.
+    std::string cp;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            const bool inner = (i == 1 || i == 2) && (j == 1 || j == 2);
+            cp += (cp.empty() ? "[" : ", [") + std::to_string(-0.5 + j / 3.0) + ", " +
+                  std::to_string(-0.5 + i / 3.0) + ", " + (inner ? "0.2" : "0") + "]";
+        }
+    const Scene scene = sensor_scene("  - {name: sheet, type: bezier, control_points: [" + cp +
+                                     "], patches: [2, 2], reflectance: [0.5, 0.5, 0.5], two_sided: true}\n");
+    const SensorFactors s =
+        sensor_factors(SceneGeometry(scene), Vec3(0.1, 0.2, -1), Vec3(0, 0, 1), 1e-10, true);
+    ASSERT_EQ(s.F.size(), 8u);
+    double sum = 0.0;
+    for (int j = 0; j < 8; ++j) {
+        if (j < 4) EXPECT_EQ(s.F[j], 0.0);
+        sum += s.F[j];
+    }
+    EXPECT_EQ(s.closed_form, 4);
+    EXPECT_NEAR(sum, analytic::point_to_parallel_rectangle(0.1, 0.2, -0.5, 0.5, -0.5, 0.5, 1.0), 1e-10);
+}
 
 TEST(Sensor, BelowACoaxialDiskAndFacingARectangle) {
     // A disk of radius 0.8 at height 1.5 facing down, split 6 x 3: F = r^2 / (r^2 + h^2).

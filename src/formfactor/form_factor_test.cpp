@@ -258,7 +258,7 @@ std::pair<double, double> fingerprint(const FormFactors& ff) {
 // 15. When one moves, bump kFormFactorAlgorithmVersion (and kHierarchyAlgorithmVersion if the
 // links move too), say so in CHANGELOG.md, and record the new values here.
 TEST(FormFactor, ValuesMoveOnlyWithTheAlgorithmVersion) {
-    static_assert(kFormFactorAlgorithmVersion == 15, "record this test's fingerprints for the new version");
+    static_assert(kFormFactorAlgorithmVersion == 16, "record this test's fingerprints for the new version");
     const std::string box = test::cube_faces(1.0, 0.0, 1);
     const std::string two = ", patches: [4, 1], reflectance: [0.8, 0.8, 0.8], two_sided: true}\n";
     const std::array<std::pair<std::string, std::string>, 4> boxes = {{

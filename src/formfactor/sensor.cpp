@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <span>
 
 #include "formfactor/blocker_set.h"
 #include "formfactor/contour_receiver.h"
@@ -38,6 +40,10 @@ std::vector<int> blockers_of(const SceneGeometry& g, const Vec3& x, const Patch&
         const Surface& s = g.surface(k);
         if (k == pj.surface && s.front_segments_escape()) continue;
         if (g.twin(k) >= 0 && g.twin(k) == pj.surface && s.back_segments_escape()) continue;
+        // j's own surface, when x sees all of it once (a Bezier patch): met only at the end.
+        if ((k == pj.surface || (g.twin(k) >= 0 && g.twin(k) == pj.surface)) && !s.plane() &&
+            s.seen_once_from(std::span<const Vec3>(&x, 1), 0.0, 1.0, 0.0, 1.0) != 0)
+            continue;
         if (strictly_inside(x, s.convex_solid()) &&
             (k == pj.surface || g.twin(k) == pj.surface || inside_solid(g, pj, k)))
             continue;
@@ -91,7 +97,8 @@ std::optional<ContourValue> by_contour(const SceneGeometry& g, const Vec3& x, co
         else if (sj.sees_itself() && sj.chords_never_cross())
             faces = strictly_inside(x, sj.convex_solid());
         else
-            faces = sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, BoundingSphere{x, 0.0}, false);
+            faces = sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, BoundingSphere{x, 0.0}, false) ||
+                    sj.seen_once_from(std::span<const Vec3>(&x, 1), pj.s0, pj.s1, pj.t0, pj.t1) == 1;
         if (faces) return point_to_contour(x, n, pieces, tol);
         return std::nullopt;
     }
@@ -210,6 +217,10 @@ SensorFactors sensor_factors(const SceneGeometry& g, const Vec3& x, const Vec3& 
             if (sj.linear_range(unit_normal, pj.s0, pj.s1, pj.t0, pj.t1).second <= glm::dot(unit_normal, x))
                 continue;
             if (const auto pl = sj.plane(); pl && pl->signed_distance(x) <= 0.0) continue;
+            // The sensor sees only the patch's back (a Bezier patch, Surface::seen_once_from).
+            if (!sj.plane() && !sj.sphere() &&
+                sj.seen_once_from(std::span<const Vec3>(&x, 1), pj.s0, pj.s1, pj.t0, pj.t1) == -1)
+                continue;
             const std::vector<int> blockers = visibility ? blockers_of(g, x, pj, eps) : std::vector<int>{};
             if (const auto c = blockers.empty() ? by_contour(g, x, unit_normal, j, tolerance)
                                                 : by_shadow(g, x, unit_normal, j, blockers)) {
