@@ -158,23 +158,23 @@ public:
         const std::size_t cones = flat ? 0 : m_cones.size(), rims = flat ? 0 : m_rim_cones.size();
         const std::size_t n = (ball ? 0 : m_horizons.size()) + cones + rims;
         if (n == 0) return false;
-        std::vector<signed char> sign(n, 0), mixed(n, 0);
+        // Signs seen at the nodes, bit 0 positive, bit 1 negative: an event crosses where both
+        // are. A horizon within rounding of a node (x's tangent plane through the vertex: on the
+        // edge of a region cut along it, cut_along_horizon) counts as neither.
+        std::vector<unsigned char> seen(n, 0);
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b) {
                 const double s = r.s0 + 0.5 * a * (r.s1 - r.s0), t = r.t0 + 0.5 * b * (r.t1 - r.t0);
                 const Vec3 x = si.point(s, t);
                 std::size_t k = 0;
-                auto note = [&](double e) {
-                    const signed char sg = e > 0.0 ? 1 : (e < 0.0 ? -1 : 0);
-                    if (a + b == 0)
-                        sign[k] = sg;
-                    else if (sg != sign[k])
-                        mixed[k] = 1;
+                auto note = [&](double e, double zero = 0.0) {
+                    seen[k] |= e > zero ? 1 : (e < -zero ? 2 : 0);
                     ++k;
                 };
                 if (!ball && !m_horizons.empty()) {
                     const Vec3 nx = si.normal(s, t);
-                    for (const Vec3& v : m_horizons) note(glm::dot(nx, v - x));
+                    for (const Vec3& v : m_horizons)
+                        note(glm::dot(nx, v - x), 1e-12 * glm::length(nx) * glm::length(v - x));
                 }
                 for (std::size_t ci = 0; ci < cones; ++ci) {
                     const Cone& c = m_cones[ci];
@@ -184,7 +184,7 @@ public:
                 }
                 for (std::size_t ci = 0; ci < rims; ++ci) note(rim_cone_side(m_rim_cones[ci], x));
             }
-        return std::any_of(mixed.begin(), mixed.end(), [](signed char m) { return m != 0; });
+        return std::any_of(seen.begin(), seen.end(), [](unsigned char m) { return m == 3; });
     }
 
     // Which way to halve a region an event crosses, to close in on it: the direction in which
@@ -203,7 +203,8 @@ public:
     // a tenth of the region's width of the same parameter. Nested rules cannot see a kink
     // that no node lies beyond; after the cut the kink is on an edge, where it costs nothing.
     Cut cut_along(const Surface& si, const Rect& r) const {
-        if (m_planes.empty() || !si.plane()) return {};
+        if (!si.plane()) return cut_along_horizon(si, r);
+        if (m_planes.empty()) return {};
         const Vec3 p00 = si.point(r.s0, r.t0), p10 = si.point(r.s1, r.t0), p01 = si.point(r.s0, r.t1),
                    p11 = si.point(r.s1, r.t1);
         const double size =
@@ -237,7 +238,55 @@ public:
         return {};
     }
 
+    // On a curved patch, where x's horizon passes a vertex of the polygon (n(x) . (v - x) = 0).
+    // On a cylinder or a cone the tangent plane is the same all along a generator, so there the
+    // event is a parameter line: cut along it when the sign changes at the same parameter (within
+    // 1e-9 of the region's width) on two lines across the region, a quarter in from its edges
+    // (a pole's edge has no normal). Elsewhere the event bends and no cut is made; a cut only
+    // moves where the nested rules look, never what their estimates promise.
+    Cut cut_along_horizon(const Surface& si, const Rect& r) const {
+        if (si.sphere()) return {};  // a sphere's horizons are planes in x (crosses)
+        for (const Vec3& v : m_horizons)
+            for (int dir = 0; dir < 2; ++dir) {
+                const double lo = dir == 0 ? r.s0 : r.t0, hi = dir == 0 ? r.s1 : r.t1;
+                const double c0 = dir == 0 ? r.t0 : r.s0, c1 = dir == 0 ? r.t1 : r.s1;
+                std::optional<double> at[2];
+                for (int k = 0; k < 2; ++k) {
+                    const double across = c0 + (0.25 + 0.5 * k) * (c1 - c0);
+                    auto h = [&](double u) {
+                        const double s = dir == 0 ? u : across, t = dir == 0 ? across : u;
+                        return glm::dot(si.normal(s, t), v - si.point(s, t));
+                    };
+                    at[k] = sign_change(h, lo, hi);
+                    if (!at[k]) break;
+                }
+                if (!at[0] || !at[1] || std::abs(*at[0] - *at[1]) > 1e-9 * (hi - lo)) continue;
+                const double c = 0.5 * (*at[0] + *at[1]);
+                if (c > lo + 1e-9 * (hi - lo) && c < hi - 1e-9 * (hi - lo)) return Cut{dir, c};
+            }
+        return {};
+    }
+
 private:
+    // Where f, of opposite signs at a and b, changes sign, by bisection to 1e-13 of b - a.
+    template <class F>
+    static std::optional<double> sign_change(const F& f, double a, double b) {
+        double fa = f(a);
+        const double fb = f(b);
+        if (!((fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0))) return std::nullopt;
+        for (int it = 0; it < 44 && b - a > 0.0; ++it) {
+            const double m = 0.5 * (a + b), fm = f(m);
+            if (fm == 0.0) return m;
+            if ((fm < 0.0) == (fa < 0.0)) {
+                a = m;
+                fa = fm;
+            } else {
+                b = m;
+            }
+        }
+        return 0.5 * (a + b);
+    }
+
     struct Cone {
         Vec3 apex, axis;
         double cos2;  // cos^2 of the half-angle
