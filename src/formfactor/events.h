@@ -264,6 +264,27 @@ public:
                 const double c = 0.5 * (*at[0] + *at[1]);
                 if (c > lo + 1e-9 * (hi - lo) && c < hi - 1e-9 * (hi - lo)) return Cut{dir, c};
             }
+        // Plane events: where the plane's trace enters and leaves through opposite edges within
+        // a tenth of the region's width of the same parameter, as on a planar patch.
+        for (const auto& plane : m_planes) {
+            const Vec3& nrm = plane.first;
+            const Vec3& p = plane.second;
+            for (int dir = 0; dir < 2; ++dir) {
+                const double lo = dir == 0 ? r.s0 : r.t0, hi = dir == 0 ? r.s1 : r.t1;
+                std::optional<double> at[2];
+                for (int k = 0; k < 2; ++k) {
+                    const double across = k == 0 ? (dir == 0 ? r.t0 : r.s0) : (dir == 0 ? r.t1 : r.s1);
+                    auto g = [&](double u) {
+                        return glm::dot(nrm, si.point(dir == 0 ? u : across, dir == 0 ? across : u) - p);
+                    };
+                    at[k] = sign_change(g, lo, hi);
+                    if (!at[k]) break;
+                }
+                if (!at[0] || !at[1] || std::abs(*at[0] - *at[1]) > 0.1 * (hi - lo)) continue;
+                const double c = 0.5 * (*at[0] + *at[1]);
+                if (c > lo + 1e-9 * (hi - lo) && c < hi - 1e-9 * (hi - lo)) return Cut{dir, c};
+            }
+        }
         return {};
     }
 
