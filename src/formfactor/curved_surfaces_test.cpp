@@ -305,7 +305,7 @@ TEST(CurvedSurfaces, APointedConeInABoxCloses) {
     // A cone to its apex (radius 0.4, height 1), two-sided, floating in a box. From a side wall's
     // corner, the tangent plane of the outside passes it along a whole generator (a cone's
     // tangent plane is the same all along one), and the outer integral over the outside's patch
-    // cuts along that line (EventSet::cut_along_horizon); before, twelve wall pairs stopped at
+    // cuts along that line (EventSet::cut_along_curved); before, twelve wall pairs stopped at
     // the refinement cap at 39 times their target and the box closed to 1.7e-8. Closure within
     // 1e-8 (measured 1.9e-9). The inside and its open base enclose a volume, and the base sees
     // only the inside, so the inside sends the walls A_base / A_inside = r / l.

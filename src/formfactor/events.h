@@ -160,7 +160,7 @@ public:
         if (n == 0) return false;
         // Signs seen at the nodes, bit 0 positive, bit 1 negative: an event crosses where both
         // are. A horizon within rounding of a node (x's tangent plane through the vertex: on the
-        // edge of a region cut along it, cut_along_horizon) counts as neither.
+        // edge of a region cut along it, cut_along_curved) counts as neither.
         std::vector<unsigned char> seen(n, 0);
         for (int a = 0; a < 3; ++a)
             for (int b = 0; b < 3; ++b) {
@@ -198,12 +198,13 @@ public:
     }
 
     // Where to cut the region so that a plane event runs along the cut instead of through a
-    // region (planar patches only, where a plane meets the patch in a straight line): the first
+    // region (on planar patches, where a plane meets the patch in a straight line; curved
+    // ones below, cut_along_curved): the first
     // plane that enters through one pair of opposite edges and leaves through the other within
     // a tenth of the region's width of the same parameter. Nested rules cannot see a kink
     // that no node lies beyond; after the cut the kink is on an edge, where it costs nothing.
     Cut cut_along(const Surface& si, const Rect& r) const {
-        if (!si.plane()) return cut_along_horizon(si, r);
+        if (!si.plane()) return cut_along_curved(si, r);
         if (m_planes.empty()) return {};
         const Vec3 p00 = si.point(r.s0, r.t0), p10 = si.point(r.s1, r.t0), p01 = si.point(r.s0, r.t1),
                    p11 = si.point(r.s1, r.t1);
@@ -238,57 +239,53 @@ public:
         return {};
     }
 
-    // On a curved patch, where x's horizon passes a vertex of the polygon (n(x) . (v - x) = 0).
-    // On a cylinder or a cone the tangent plane is the same all along a generator, so there the
-    // event is a parameter line: cut along it when the sign changes at the same parameter (within
-    // 1e-9 of the region's width) on two lines across the region, a quarter in from its edges
-    // (a pole's edge has no normal). Elsewhere the event bends and no cut is made; a cut only
-    // moves where the nested rules look, never what their estimates promise.
-    Cut cut_along_horizon(const Surface& si, const Rect& r) const {
-        if (si.sphere()) return {};  // a sphere's horizons are planes in x (crosses)
-        for (const Vec3& v : m_horizons)
-            for (int dir = 0; dir < 2; ++dir) {
-                const double lo = dir == 0 ? r.s0 : r.t0, hi = dir == 0 ? r.s1 : r.t1;
-                const double c0 = dir == 0 ? r.t0 : r.s0, c1 = dir == 0 ? r.t1 : r.s1;
-                std::optional<double> at[2];
-                for (int k = 0; k < 2; ++k) {
-                    const double across = c0 + (0.25 + 0.5 * k) * (c1 - c0);
-                    auto h = [&](double u) {
-                        const double s = dir == 0 ? u : across, t = dir == 0 ? across : u;
-                        return glm::dot(si.normal(s, t), v - si.point(s, t));
-                    };
-                    at[k] = sign_change(h, lo, hi);
-                    if (!at[k]) break;
-                }
-                if (!at[0] || !at[1] || std::abs(*at[0] - *at[1]) > 1e-9 * (hi - lo)) continue;
-                const double c = 0.5 * (*at[0] + *at[1]);
-                if (c > lo + 1e-9 * (hi - lo) && c < hi - 1e-9 * (hi - lo)) return Cut{dir, c};
-            }
-        // Plane events: where the plane's trace enters and leaves through opposite edges within
-        // a tenth of the region's width of the same parameter, as on a planar patch.
+    // On a curved patch (not a sphere: its horizons are planes in x, and its values stay as they
+    // were), where an event's trace runs nearly along a parameter line across the region:
+    // - x's horizon passing a vertex of the polygon (n(x) . (v - x) = 0). On a cylinder or a cone
+    //   the tangent plane is the same all along a generator, so the trace is a parameter line:
+    //   its sign changes at the same parameter (within 1e-9 of the width) on two lines a quarter
+    //   in from the region's edges (a pole's edge has no normal).
+    // - a plane event, whose trace enters and leaves through opposite edges within a tenth of the
+    //   width of the same parameter, as on a planar patch.
+    // Elsewhere the event bends and no cut is made; a cut only moves where the nested rules look,
+    // never what their estimates promise.
+    Cut cut_along_curved(const Surface& si, const Rect& r) const {
+        if (si.sphere()) return {};
+        for (const Vec3& v : m_horizons) {
+            auto h = [&](double s, double t) { return glm::dot(si.normal(s, t), v - si.point(s, t)); };
+            if (const Cut c = cut_where(r, h, 0.25, 0.75, 1e-9); c.dir >= 0) return c;
+        }
         for (const auto& plane : m_planes) {
             const Vec3& nrm = plane.first;
             const Vec3& p = plane.second;
-            for (int dir = 0; dir < 2; ++dir) {
-                const double lo = dir == 0 ? r.s0 : r.t0, hi = dir == 0 ? r.s1 : r.t1;
-                std::optional<double> at[2];
-                for (int k = 0; k < 2; ++k) {
-                    const double across = k == 0 ? (dir == 0 ? r.t0 : r.s0) : (dir == 0 ? r.t1 : r.s1);
-                    auto g = [&](double u) {
-                        return glm::dot(nrm, si.point(dir == 0 ? u : across, dir == 0 ? across : u) - p);
-                    };
-                    at[k] = sign_change(g, lo, hi);
-                    if (!at[k]) break;
-                }
-                if (!at[0] || !at[1] || std::abs(*at[0] - *at[1]) > 0.1 * (hi - lo)) continue;
-                const double c = 0.5 * (*at[0] + *at[1]);
-                if (c > lo + 1e-9 * (hi - lo) && c < hi - 1e-9 * (hi - lo)) return Cut{dir, c};
-            }
+            auto g = [&](double s, double t) { return glm::dot(nrm, si.point(s, t) - p); };
+            if (const Cut c = cut_where(r, g, 0.0, 1.0, 0.1); c.dir >= 0) return c;
         }
         return {};
     }
 
 private:
+    // A cut across the region where e(s, t) changes sign along two lines through it (at fractions
+    // f0 and f1 of its extent in the other parameter), at parameters within `agree` of its width
+    // of each other: halfway between them, in the first direction where that holds.
+    template <class E>
+    static Cut cut_where(const Rect& r, const E& e, double f0, double f1, double agree) {
+        for (int dir = 0; dir < 2; ++dir) {
+            const double lo = dir == 0 ? r.s0 : r.t0, hi = dir == 0 ? r.s1 : r.t1;
+            const double c0 = dir == 0 ? r.t0 : r.s0, c1 = dir == 0 ? r.t1 : r.s1;
+            std::optional<double> at[2];
+            for (int k = 0; k < 2; ++k) {
+                const double across = c0 + (k == 0 ? f0 : f1) * (c1 - c0);
+                at[k] = sign_change([&](double u) { return dir == 0 ? e(u, across) : e(across, u); }, lo, hi);
+                if (!at[k]) break;
+            }
+            if (!at[0] || !at[1] || std::abs(*at[0] - *at[1]) > agree * (hi - lo)) continue;
+            const double c = 0.5 * (*at[0] + *at[1]);
+            if (c > lo + 1e-9 * (hi - lo) && c < hi - 1e-9 * (hi - lo)) return Cut{dir, c};
+        }
+        return {};
+    }
+
     // Where f, of opposite signs at a and b, changes sign, by bisection to 1e-13 of b - a.
     template <class F>
     static std::optional<double> sign_change(const F& f, double a, double b) {
