@@ -239,9 +239,10 @@ public:
         return {};
     }
 
-    // On a curved patch (not a sphere: its horizons are planes in x, and its values stay as they
-    // were), where an event's trace runs nearly along a parameter line across the region:
-    // - x's horizon passing a vertex of the polygon (n(x) . (v - x) = 0). On a cylinder or a cone
+    // On a curved patch, where an event's trace runs nearly along a parameter line across the
+    // region:
+    // - x's horizon passing a vertex of the polygon (n(x) . (v - x) = 0), not on a sphere (its
+    //   horizons are planes in x, left to crosses as before). On a cylinder or a cone
     //   the tangent plane is the same all along a generator, so the trace is a parameter line:
     //   its sign changes at the same parameter (within 1e-9 of the width) on two lines a quarter
     //   in from the region's edges (a pole's edge has no normal).
@@ -250,11 +251,11 @@ public:
     // Elsewhere the event bends and no cut is made; a cut only moves where the nested rules look,
     // never what their estimates promise.
     Cut cut_along_curved(const Surface& si, const Rect& r) const {
-        if (si.sphere()) return {};
-        for (const Vec3& v : m_horizons) {
-            auto h = [&](double s, double t) { return glm::dot(si.normal(s, t), v - si.point(s, t)); };
-            if (const Cut c = cut_where(r, h, 0.25, 0.75, 1e-9); c.dir >= 0) return c;
-        }
+        if (!si.sphere())
+            for (const Vec3& v : m_horizons) {
+                auto h = [&](double s, double t) { return glm::dot(si.normal(s, t), v - si.point(s, t)); };
+                if (const Cut c = cut_where(r, h, 0.25, 0.75, 1e-9); c.dir >= 0) return c;
+            }
         for (const auto& plane : m_planes) {
             const Vec3& nrm = plane.first;
             const Vec3& p = plane.second;
