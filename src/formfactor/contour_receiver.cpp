@@ -113,15 +113,27 @@ std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, i
         if (!once) once = pi.polygon && !sj.plane() ? sj.seen_once_from(pi.corners, 0.0, 1.0, 0.0, 1.0) : 0;
         return *once;
     };
-    // Nothing in between: a segment between points inside a convex solid stays inside it, and a
-    // segment from x to a point of a surface x sees once meets it only there.
+    // Every point of patch i in front of every tangent plane of the curved patch j (and j not
+    // hiding part of itself): from i's bounding ball, or from each corner of a polygon i (the
+    // distance to a tangent plane is affine in x).
+    auto faces_j = [&] {
+        if (sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false)) return true;
+        if (!pi.polygon) return false;
+        for (const Vec3& c : pi.corners)
+            if (!sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, BoundingSphere{c, 0.0}, false)) return false;
+        return true;
+    };
+    // Nothing in between: a segment between points inside a convex solid stays inside it; a
+    // segment from x to a point of a surface x sees once meets it only there, and so does one
+    // to a point on the surface's convex hull from in front of its tangent plane.
     if (visibility)
         for (const int k : blockers) {
             const bool own = k == pj.surface || (g.twin(k) >= 0 && g.twin(k) == pj.surface);
             const bool clear =
                 (k == pi.surface && k == pj.surface ? g.surface(k).chords_never_cross()
                                                     : inside_solid(g, pi, k) && inside_solid(g, pj, k)) ||
-                (own && k != pi.surface && seen_once() != 0);
+                (own && k != pi.surface &&
+                 (seen_once() != 0 || (sj.on_convex_hull(pj.s0, pj.s1, pj.t0, pj.t1) && faces_j())));
             if (!clear) return std::nullopt;
         }
     // All of j in front of the tangent plane of every x.
@@ -135,9 +147,7 @@ std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, i
     if (const auto p = sj.plane()) {
         if (si.linear_range(p->normal, pi.s0, pi.s1, pi.t0, pi.t1).first < p->offset - eps)
             return std::nullopt;
-    } else if (!(convex_from_inside(sj)
-                     ? inside_solid(g, pi, pj.surface)
-                     : sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false) || seen_once() == 1)) {
+    } else if (!(convex_from_inside(sj) ? inside_solid(g, pi, pj.surface) : faces_j() || seen_once() == 1)) {
         return std::nullopt;
     }
     return how;

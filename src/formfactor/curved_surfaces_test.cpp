@@ -54,6 +54,30 @@ double max_row_error(const FormFactors& ff) {
     return worst;
 }
 
+// F from the square centre c, half-side h, sides along the unit vectors u and v (facing u x v),
+// to patch j of surface s: Lambert's kernel by a 24-point Gauss rule along each of the four
+// axes, with no occlusion. For pairs nothing hides, a distance apart: the integrand is smooth.
+double square_to_patch(const Surface& s, const Patch& pj, const Vec3& c, const Vec3& u, const Vec3& v,
+                       double h) {
+    const GaussRule gl = gauss_legendre(24);
+    const Vec3 nx = glm::cross(u, v);
+    const double ds = 0.5 * (pj.s1 - pj.s0), dt = 0.5 * (pj.t1 - pj.t0);
+    double f = 0.0;
+    for (std::size_t a = 0; a < gl.x.size(); ++a)
+        for (std::size_t b = 0; b < gl.x.size(); ++b) {
+            const Vec3 x = c + h * gl.x[a] * u + h * gl.x[b] * v;
+            for (std::size_t k = 0; k < gl.x.size(); ++k)
+                for (std::size_t l = 0; l < gl.x.size(); ++l) {
+                    const double sp = pj.s0 + ds * (1 + gl.x[k]), tp = pj.t0 + dt * (1 + gl.x[l]);
+                    const Vec3 r = s.point(sp, tp) - x, n = s.normal(sp, tp);
+                    const double rr = glm::dot(r, r);
+                    f += gl.w[a] * gl.w[b] * gl.w[k] * gl.w[l] * ds * dt * glm::dot(nx, r) * -glm::dot(n, r) /
+                         (kPi * rr * rr);
+                }
+        }
+    return f / 4.0;  // the weights of the square's two axes sum to 4, its area to 4 h^2
+}
+
 // Every row's miss of 1 within the row's summed estimates (plus `slack`).
 void expect_rows_within_estimates(const FormFactors& ff, double slack) {
     for (int i = 0; i < ff.F.n; ++i) {
@@ -541,25 +565,9 @@ TEST(CurvedSurfaces, ABezierSheetSeenOnceFromAPolygonTakesItsContour) {
             continue;
         }
         sum += e.f_ij;
-        // Lambert's kernel by a 24-point rule along each of the four axes (the integrand is smooth:
-        // the two are a distance 1 apart); seen once, nothing hides any part of the patch.
-        const Patch& pj = g.patch(j);
-        double ref = 0.0;
-        for (std::size_t a = 0; a < gl.x.size(); ++a)
-            for (std::size_t b = 0; b < gl.x.size(); ++b) {
-                const Vec3 x(gl.x[a], gl.x[b], -1.0);
-                const double wx = gl.w[a] * gl.w[b];
-                for (std::size_t c = 0; c < gl.x.size(); ++c)
-                    for (std::size_t d = 0; d < gl.x.size(); ++d) {
-                        const double s = pj.s0 + 0.5 * (pj.s1 - pj.s0) * (1 + gl.x[c]);
-                        const double t = pj.t0 + 0.5 * (pj.t1 - pj.t0) * (1 + gl.x[d]);
-                        const Vec3 r = back.point(s, t) - x, n = back.normal(s, t);
-                        const double rr = glm::dot(r, r);
-                        ref += wx * gl.w[c] * gl.w[d] * 0.25 * (pj.s1 - pj.s0) * (pj.t1 - pj.t0) * r.z *
-                               -glm::dot(n, r) / (kPi * rr * rr);
-                    }
-            }
-        ref /= 4.0;  // the floor's area; its 2 x 2 Jacobian is 1
+        // Seen once, nothing hides any part of the patch; the two are a distance 1 apart.
+        const double ref =
+            square_to_patch(back, g.patch(j), Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(0, 1, 0), 1.0);
         EXPECT_NEAR(e.f_ij, ref, 1e-9) << "patch " << j;
         EXPECT_LE(std::abs(e.f_ij - ref), e.e_ij + 1e-13) << "patch " << j;
         EXPECT_LE(e.e_ij, 1e-9);
@@ -576,6 +584,47 @@ TEST(CurvedSurfaces, ABezierSheetSeenOnceFromAPolygonTakesItsContour) {
                       analytic::point_to_parallel_rectangle(gl.x[a], gl.x[b], -0.5, 0.5, -0.5, 0.5, 1.0) /
                       4.0;
     EXPECT_NEAR(sum, square, 1e-9);
+}
+
+TEST(CurvedSurfaces, ATorusOuterPatchFacingAPolygonTakesItsContour) {
+    // A ring (R 1, r 0.3) split 16 x 8 and a unit square at x = 3 facing it. A patch of the outer
+    // half (cos v >= 0) lies on the ring's convex hull; where every corner of the square is in
+    // front of all its tangent planes (faces_ball, exact on a torus), nothing of the ring can
+    // hide it and it hides nothing of itself, so the pair takes the contour of its four circle
+    // arcs. Against a 24^4-point product rule of Lambert's kernel (smooth: the square keeps 1.7
+    // away from the ring).
+    const Scene scene = parse_scene(
+        "closed: false\nsurfaces:\n"
+        "  - {name: ring, type: torus, center: [0, 0, 0], axis: [0, 0, 1], major_radius: 1,"
+        " minor_radius: 0.3, patches: [16, 8], reflectance: [0.5, 0.5, 0.5]}\n"
+        "  - {name: panel, type: quad, corners: [[3, -0.5, -0.5], [3, -0.5, 0.5], [3, 0.5, 0.5],"
+        " [3, 0.5, -0.5]], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n",
+        "ring.yaml");
+    const SceneGeometry g(scene);
+    ASSERT_EQ(g.patch_count(), 129);
+    const FormFactorRows rows(g, FormFactorOptions::adaptive(1e-10, true));
+    const Surface& ring = g.surface(0);
+    const Patch& panel = g.patch(128);
+    int facing = 0;
+    for (int j = 0; j < 128; ++j) {
+        const Patch& pj = g.patch(j);
+        bool faces = ring.on_convex_hull(pj.s0, pj.s1, pj.t0, pj.t1);
+        for (const Vec3& c : panel.corners)
+            faces = faces && ring.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, BoundingSphere{c, 0.0}, false);
+        if (!faces) continue;
+        ++facing;
+        FormFactorStats st;
+        const PairEntries e = rows.pair(128, j, &st);
+        EXPECT_EQ(st.semi_analytic, 1) << "patch " << j;
+        EXPECT_EQ(st.numeric, 0) << "patch " << j;
+        const double ref = square_to_patch(ring, pj, Vec3(3, 0, 0), Vec3(0, 0, 1), Vec3(0, 1, 0), 0.5);
+        EXPECT_NEAR(e.f_ij, ref, 1e-9) << "patch " << j;
+        EXPECT_LE(std::abs(e.f_ij - ref), e.e_ij + 1e-12) << "patch " << j;
+    }
+    // The outer half's patches facing +x: two azimuth columns by the two tube rows at the
+    // equator (the rows toward the top and bottom tilt their tangent planes past the square's
+    // lower or upper corners).
+    EXPECT_EQ(facing, 4);
 }
 
 TEST(CurvedSurfaces, TorusInABoxCloses) {

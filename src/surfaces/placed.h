@@ -88,6 +88,9 @@ public:
                     bool back) const override {
         return m_inner->faces_ball(s0, s1, t0, t1, to_inner(b), back != m_back);
     }
+    bool on_convex_hull(double s0, double s1, double t0, double t1) const override {
+        return m_inner->on_convex_hull(s0, s1, t0, t1);
+    }
     bool wraps_in_s() const override { return m_inner->wraps_in_s(); }
     bool wraps_in_t() const override { return m_inner->wraps_in_t(); }
     bool pole_at_t0() const override { return m_inner->pole_at_t0(); }

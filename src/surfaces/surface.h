@@ -235,6 +235,11 @@ public:
     virtual int seen_once_from(std::span<const Vec3> /*from*/, double, double, double, double) const {
         return 0;
     }
+    // Whether every point of the parameter rectangle lies on the boundary of the convex hull of
+    // the whole surface, its tangent plane supporting the surface there (the outer half of a
+    // torus): a segment to such a point from a point in front of its tangent plane meets the
+    // surface nowhere else. Geometric: the same for either side. False by default.
+    virtual bool on_convex_hull(double, double, double, double) const { return false; }
     // The same two answers for the surface's back side (two-sided surfaces, surfaces/placed.h).
     // The defaults are the safe ones: more occlusion tests and self pairs, never a wrong value.
     virtual bool back_segments_escape() const { return false; }

@@ -89,6 +89,61 @@ std::pair<double, double> TorusSurface::linear_range(const Vec3& a, double s0, d
     return {base + lo, base + hi};
 }
 
+bool TorusSurface::patch_contour(double s0, double s1, double t0, double t1,
+                                 std::vector<ContourPiece>* out) const {
+    // About dP/ds x dP/dt (outward): along t0 in +u, up the tube at u1, back along t1, down at u0.
+    const double u0 = m_angles.at(s0), u1 = m_angles.at(s1), v0 = 2.0 * kPi * t0, v1 = 2.0 * kPi * t1;
+    auto around_axis = [&](double v, double from, double to) {
+        ContourPiece c;
+        c.arc = true;
+        c.center = m_center + (m_r * std::sin(v)) * m_frame.axis;
+        c.e1 = m_frame.e1;
+        c.e2 = m_frame.e2;
+        c.radius = m_R + m_r * std::cos(v);
+        c.from = from;
+        c.to = to;
+        return c;
+    };
+    auto around_tube = [&](double u, double from, double to) {
+        ContourPiece c;
+        c.arc = true;
+        c.center = m_center + m_R * m_frame.radial(u);
+        c.e1 = m_frame.radial(u);
+        c.e2 = m_frame.axis;
+        c.radius = m_r;
+        c.from = from;
+        c.to = to;
+        return c;
+    };
+    out->clear();
+    out->push_back(around_axis(v0, u0, u1));
+    out->push_back(around_tube(u1, v0, v1));
+    out->push_back(around_axis(v1, u1, u0));
+    out->push_back(around_tube(u0, v1, v0));
+    if (m_orientation < 0.0) {
+        std::reverse(out->begin(), out->end());
+        for (ContourPiece& c : *out) std::swap(c.from, c.to);
+    }
+    return true;
+}
+
+bool TorusSurface::on_convex_hull(double, double, double t0, double t1) const {
+    return (t0 >= 0.0 && t1 <= 0.25) || (t0 >= 0.75 && t1 <= 1.0);
+}
+
+bool TorusSurface::faces_ball(double s0, double s1, double t0, double t1, const BoundingSphere& b,
+                              bool back) const {
+    if ((m_orientation < 0.0) != back || !on_convex_hull(s0, s1, t0, t1)) return false;
+    // n . (c - P) = cos v (A(u) - R) + h sin v - r, A(u) = d . radial(u), h = d . axis, d = c -
+    // center: with cos v >= 0 least at the least A, then a cosine in v.
+    const Vec3 d = b.center - m_center;
+    const double a = radial_range(m_frame, d, m_angles.at(s0), m_angles.at(s1)).first - m_R;
+    const double h = glm::dot(d, m_frame.axis);
+    const double least =
+        cosine_range(std::hypot(a, h), std::atan2(h, a), 2.0 * kPi * t0, 2.0 * kPi * t1).first - m_r;
+    return least > b.radius + 1e-12 * (m_R + m_r + glm::length(d));
+}
+
 void TorusSurface::write_key(ByteWriter& w) const {
     for (int k = 0; k < 3; ++k) w.f64(m_center[k]);
     for (int k = 0; k < 3; ++k) w.f64(m_frame.axis[k]);

@@ -22,6 +22,16 @@ public:
     // Exact: linear in a . radial(u), a cosine in v.
     std::pair<double, double> linear_range(const Vec3& a, double s0, double s1, double t0,
                                            double t1) const override;
+    // Four circle arcs: two about the axis (t fixed), two around the tube (s fixed).
+    bool patch_contour(double s0, double s1, double t0, double t1,
+                       std::vector<ContourPiece>* out) const override;
+    // The outer half (cos v >= 0: t in [0, 1/4] or [3/4, 1]), where each point's tangent plane
+    // supports the whole torus.
+    bool on_convex_hull(double s0, double s1, double t0, double t1) const override;
+    // On the outer half, seen from outside: the least of n . (c - P) over the rectangle is exact
+    // (linear in radial(u) . (c - center), whose range is exact, then a cosine in v).
+    bool faces_ball(double s0, double s1, double t0, double t1, const BoundingSphere& b,
+                    bool back) const override;
     bool chords_never_cross() const override { return false; }
     bool front_segments_escape() const override { return false; }
     bool sees_itself() const override { return true; }
