@@ -186,8 +186,8 @@ public:
     // True when a patch can see another patch of the same surface (concave side in front).
     virtual bool sees_itself() const = 0;
     // The boundary of the parameter rectangle, run counter-clockwise about the front normal,
-    // when it is made of segments, circle arcs and cubic curves (disk sectors, cylinder patches,
-    // Bezier patches): the contour
+    // when it is made of segments, circle arcs and cubic curves (disk sectors, cylinder, cone
+    // and torus patches, Bezier patches): the contour
     // form of the inner form-factor integral (formfactor/contour_receiver.h). False otherwise.
     virtual bool patch_contour(double, double, double, double, std::vector<ContourPiece>*) const {
         return false;
