@@ -79,6 +79,19 @@ inline std::string cube_faces(double h, double offset = 0.0, int patches = 1,
     return s;
 }
 
+// A bicubic bump as a `control_points` list: its edges the square [-0.5, 0.5]^2 at z = 0, its
+// inner four control points raised 0.2; front toward +z.
+inline std::string bezier_bump() {
+    std::string cp;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            const bool inner = (i == 1 || i == 2) && (j == 1 || j == 2);
+            cp += (cp.empty() ? "[" : ", [") + std::to_string(-0.5 + j / 3.0) + ", " +
+                  std::to_string(-0.5 + i / 3.0) + ", " + (inner ? "0.2" : "0") + "]";
+        }
+    return "[" + cp + "]";
+}
+
 // Unit square in z = 0 facing +z, and its opposite at z = 1 facing -z.
 inline const char* kFloor = "[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]";
 inline const char* kCeiling = "[[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]";
