@@ -115,13 +115,19 @@ std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, i
     };
     // Every point of patch i in front of every tangent plane of the curved patch j (and j not
     // hiding part of itself): from i's bounding ball, or from each corner of a polygon i (the
-    // distance to a tangent plane is affine in x).
+    // distance to a tangent plane is affine in x). Asked once.
+    std::optional<bool> faces;
     auto faces_j = [&] {
-        if (sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false)) return true;
-        if (!pi.polygon) return false;
-        for (const Vec3& c : pi.corners)
-            if (!sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, BoundingSphere{c, 0.0}, false)) return false;
-        return true;
+        if (!faces) {
+            faces = sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, pi.bound, false);
+            if (!*faces && pi.polygon) {
+                faces = true;
+                for (const Vec3& c : pi.corners)
+                    faces =
+                        *faces && sj.faces_ball(pj.s0, pj.s1, pj.t0, pj.t1, BoundingSphere{c, 0.0}, false);
+            }
+        }
+        return *faces;
     };
     // Nothing in between: a segment between points inside a convex solid stays inside it; a
     // segment from x to a point of a surface x sees once meets it only there, and so does one

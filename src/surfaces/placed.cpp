@@ -1,6 +1,7 @@
 #include "surfaces/placed.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace radiosa {
@@ -90,11 +91,14 @@ bool PlacedSurface::patch_contour(double s0, double s1, double t0, double t1,
 
 int PlacedSurface::seen_once_from(std::span<const Vec3> from, double s0, double s1, double t0,
                                   double t1) const {
+    // Culling asks this of every pair with a curved surface: no allocation. A polygon has at
+    // most a handful of corners; more points than the buffer are left unproven.
+    std::array<Vec3, 8> inner;
+    if (from.size() > inner.size()) return 0;
     const Mat3 inv = glm::transpose(m_xf.rotate);
-    std::vector<Vec3> inner;
-    inner.reserve(from.size());
-    for (const Vec3& x : from) inner.push_back(inv * (x - m_xf.translate) / m_xf.scale);
-    return (m_back ? -1 : 1) * m_inner->seen_once_from(inner, s0, s1, t0, t1);
+    for (std::size_t k = 0; k < from.size(); ++k) inner[k] = inv * (from[k] - m_xf.translate) / m_xf.scale;
+    return (m_back ? -1 : 1) *
+           m_inner->seen_once_from(std::span<const Vec3>(inner.data(), from.size()), s0, s1, t0, t1);
 }
 
 std::optional<ConvexSolid> PlacedSurface::convex_solid() const {
