@@ -33,14 +33,19 @@ template <class A, class B, class Op>
 auto bernstein_product(const Bernstein2<A>& f, const Bernstein2<B>& g, const Op& op) {
     using T = decltype(op(f.c[0], g.c[0]));
     Bernstein2<T> h(f.m + g.m, f.n + g.n, 0.0 * op(f.c[0], g.c[0]));
+    // The weights along t, one per (j, l), are the same for every (i, k).
+    std::vector<double> wt(static_cast<std::size_t>((f.n + 1) * (g.n + 1)));
+    for (int j = 0; j <= f.n; ++j)
+        for (int l = 0; l <= g.n; ++l)
+            wt[static_cast<std::size_t>(j * (g.n + 1) + l)] =
+                binomial(f.n, j) * binomial(g.n, l) / binomial(f.n + g.n, j + l);
     for (int i = 0; i <= f.m; ++i)
         for (int k = 0; k <= g.m; ++k) {
             const double ws = binomial(f.m, i) * binomial(g.m, k) / binomial(f.m + g.m, i + k);
             for (int j = 0; j <= f.n; ++j)
-                for (int l = 0; l <= g.n; ++l) {
-                    const double w = ws * binomial(f.n, j) * binomial(g.n, l) / binomial(f.n + g.n, j + l);
-                    h.at(i + k, j + l) += w * op(f.at(i, j), g.at(k, l));
-                }
+                for (int l = 0; l <= g.n; ++l)
+                    h.at(i + k, j + l) +=
+                        ws * wt[static_cast<std::size_t>(j * (g.n + 1) + l)] * op(f.at(i, j), g.at(k, l));
         }
     return h;
 }
