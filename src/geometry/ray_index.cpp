@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry/ball_hits_avx512.h"
 #include "surfaces/sphere_hit.h"
 
 namespace radiosa {
@@ -80,11 +81,17 @@ struct RayIndex::Impl {
     // What one query (a ray, or a packet of up to kPacket) carries through Embree to the
     // intersect callback: Embree's context first, so the callback can cast back to it. Embree
     // may regroup a packet's rays before a callback, so each ray's id names its lane.
-    static constexpr int kPacket = 8;
+    // Packets of 16 rays where the processor has AVX-512 (Embree's native width there), else 8.
+    static constexpr int kPacket = 16;
+    // A packet's rays by coordinate: ray[0..2][i] lane i's direction, ray[3..5][i] its origin.
+    struct PacketRays {
+        alignas(64) double ray[6][kPacket];
+    };
     struct Query {
         RTCIntersectContext rtc;
         const Impl* index;
-        Lane* lanes;  // the packet's, lanes[id]
+        Lane* lanes;                      // the packet's, lanes[id]
+        const PacketRays* soa = nullptr;  // set for a packet of 16 (AVX-512)
     };
 
     static void bounds(const RTCBoundsFunctionArguments* args) {
@@ -99,29 +106,67 @@ struct RayIndex::Impl {
         o->upper_z = float_up(b[5]);
     }
 
+    // Lane i's ray meets surface `args->primID` at d, below its t_max: the nearest so far.
+    static void take(const RTCIntersectFunctionNArguments* args, const Query* q, unsigned i, Lane& l,
+                     double d) {
+        const int k = static_cast<int>(args->primID);
+        if (d == l.best && l.surface < k) return;
+        l.best = d;
+        l.surface = k;
+        l.limit = l.next;
+        l.next = next_up(d);  // d is finite: it is below l.next
+        // Generous in float: traversal rounding must not prune a box holding a nearer hit.
+        const unsigned n = args->N;
+        RTCRayN_tfar(RTCRayHitN_RayN(args->rayhit, n), n, i) =
+            float_up((d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
+        RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
+        RTCHitN_geomID(hits, n, i) = args->geomID;
+        RTCHitN_primID(hits, n, i) = args->primID;
+    }
+
+#if defined(__x86_64__)
+    // A whole sphere against a packet of 16 in the order it was traced (lane i is ray i): eight
+    // lanes at a time straight from the packet's coordinates, no gathering. False (nothing
+    // done) when Embree has regrouped the packet.
+    static bool test_by_coordinate(const RTCIntersectFunctionNArguments* args, const Query* q,
+                                   const Surface::Ball& ball) {
+        RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+        for (unsigned i = 0; i < kPacket; ++i)
+            if (args->valid[i] && RTCRayN_id(rays, args->N, i) != i) return false;
+        for (unsigned h = 0; h < kPacket; h += 8) {
+            unsigned any = 0;
+            double limit[8], d[8];
+            for (unsigned r = 0; r < 8; ++r) {
+                any |= static_cast<unsigned>(args->valid[h + r]);
+                limit[r] = q->lanes[h + r].next;
+            }
+            if (!any) continue;
+            const double* const ray[6] = {q->soa->ray[0] + h, q->soa->ray[1] + h, q->soa->ray[2] + h,
+                                          q->soa->ray[3] + h, q->soa->ray[4] + h, q->soa->ray[5] + h};
+            const double center[3] = {ball.center.x, ball.center.y, ball.center.z};
+            sphere_front_distance8(ray, center, ball.radius, ball.orientation, limit, d);
+            for (unsigned r = 0; r < 8; ++r)
+                if (args->valid[h + r] && d[r] < q->lanes[h + r].next)
+                    take(args, q, h + r, q->lanes[h + r], d[r]);
+        }
+        return true;
+    }
+#endif
+
     static void intersect(const RTCIntersectFunctionNArguments* args) {
         Query* q = reinterpret_cast<Query*>(args->context);
         const unsigned n = args->N;
         RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
-        RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, n);
         const int k = static_cast<int>(args->primID);
-        // Lane i's ray meets surface k at d (below its t_max): the nearest so far.
-        const auto take = [&](unsigned i, Lane& l, double d) {
-            if (d == l.best && l.surface < k) return;
-            l.best = d;
-            l.surface = k;
-            l.limit = l.next;
-            l.next = next_up(d);  // d is finite: it is below l.next
-            // Generous in float: traversal rounding must not prune a box holding a nearer hit.
-            RTCRayN_tfar(rays, n, i) = float_up((d - l.shift) * (1.0 + 1e-5) + 1e-5 * q->index->radius);
-            RTCHitN_geomID(hits, n, i) = args->geomID;
-            RTCHitN_primID(hits, n, i) = args->primID;
-        };
+        const auto take = [&](unsigned i, Lane& l, double d) { Impl::take(args, q, i, l, d); };
         const Surface::Ball& ball = q->index->balls[static_cast<std::size_t>(k)];
         if (ball.radius > 0.0) {
-            // A whole sphere: its valid lanes four at a time (AVX; the last group filled up with
-            // copies), else one at a time, by the same operations, so the same bits
-            // (surfaces/sphere_hit.h).
+            // A whole sphere: a packet of 16 eight lanes at a time (AVX-512), else its valid
+            // lanes four at a time (AVX; the last group filled up with copies), else one at a
+            // time, by the same operations, so the same bits (surfaces/sphere_hit.h).
+#if defined(__x86_64__)
+            if (q->soa && n == kPacket && test_by_coordinate(args, q, ball)) return;
+#endif
             unsigned lane[kPacket];
             unsigned m = 0;
             for (unsigned i = 0; i < n; ++i)
@@ -208,6 +253,8 @@ struct RayIndex::Impl {
             i = j;
         }
     }
+    template <int K, class RayHitK>
+    void trace(const Ray* rays, std::size_t count, Found* found) const;
     void by_loop(const Ray& ray, Found* out) const {
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t k = 0; k < surfaces.size(); ++k)
@@ -324,26 +371,36 @@ std::optional<RayIndex::Found> RayIndex::nearest_front(const Ray& ray) const {
     return f;
 }
 
-void RayIndex::nearest_front(const Ray* rays, std::size_t count, Found* found) const {
-    constexpr int kP = Impl::kPacket;
-    static_assert(kP == 8, "the packet is traced with rtcIntersect8");
-    // Up to eight packets are traced, then their nearest surfaces find their hits together.
-    constexpr std::size_t kBlock = 8 * kP;
-    Impl::Lane lanes[kBlock];
-    Impl::Query q;
-    q.index = m.get();
+// Traces the rays in packets of K (rtcIntersect8 or 16), 64 rays at a time, whose nearest
+// surfaces then find their hits together.
+template <int K, class RayHitK>
+void RayIndex::Impl::trace(const Ray* rays, std::size_t count, Found* found) const {
+    static_assert(K <= kPacket);
+    constexpr std::size_t kBlock = 64;
+    Lane lanes[kBlock];
+    PacketRays soa;
+    Query q;
+    q.index = this;
+    q.soa = K == kPacket ? &soa : nullptr;
     for (std::size_t block = 0; block < count; block += kBlock) {
         const std::size_t in_block = std::min(kBlock, count - block);
-        for (std::size_t first = 0; first < in_block; first += kP) {
-            const int n = static_cast<int>(std::min<std::size_t>(kP, in_block - first));
-            alignas(32) int valid[kP];
-            alignas(32) RTCRayHit8 rh;
+        for (std::size_t first = 0; first < in_block; first += K) {
+            const int n = static_cast<int>(std::min<std::size_t>(K, in_block - first));
+            alignas(64) int valid[K];
+            alignas(64) RayHitK rh;
             q.lanes = lanes + first;
-            for (int i = 0; i < kP; ++i) {
+            for (int i = 0; i < K; ++i) {
                 const Ray* ray = i < n ? &rays[block + first + i] : nullptr;
                 Vec3 org(0.0);
-                valid[i] = ray && m->start(*ray, lanes[first + i], &org) ? -1 : 0;
+                valid[i] = ray && start(*ray, lanes[first + i], &org) ? -1 : 0;
                 const Vec3 dir = ray ? ray->dir : Vec3(1.0, 0.0, 0.0);
+                if constexpr (K == kPacket) {
+                    const Vec3 at = ray ? ray->origin : Vec3(0.0);
+                    for (int a = 0; a < 3; ++a) {
+                        soa.ray[a][i] = dir[a];
+                        soa.ray[3 + a][i] = at[a];
+                    }
+                }
                 rh.ray.org_x[i] = static_cast<float>(org.x);
                 rh.ray.org_y[i] = static_cast<float>(org.y);
                 rh.ray.org_z[i] = static_cast<float>(org.z);
@@ -362,10 +419,21 @@ void RayIndex::nearest_front(const Ray* rays, std::size_t count, Found* found) c
             }
             rtcInitIntersectContext(&q.rtc);
             q.rtc.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-            rtcIntersect8(valid, m->scene, &q.rtc, &rh);
+            if constexpr (K == 16)
+                rtcIntersect16(valid, scene, &q.rtc, &rh);
+            else
+                rtcIntersect8(valid, scene, &q.rtc, &rh);
         }
-        m->finish(lanes, in_block, found + block);
+        finish(lanes, in_block, found + block);
     }
+}
+
+void RayIndex::nearest_front(const Ray* rays, std::size_t count, Found* found, int packet) const {
+#if defined(__x86_64__)
+    static const bool avx512 = __builtin_cpu_supports("avx512f");
+    if (avx512 && packet != 8) return m->trace<16, RTCRayHit16>(rays, count, found);
+#endif
+    m->trace<8, RTCRayHit8>(rays, count, found);
 }
 
 }  // namespace radiosa

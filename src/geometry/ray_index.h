@@ -35,9 +35,10 @@ public:
     // would find it. Safe to call from many threads at once.
     std::optional<Found> nearest_front(const Ray& ray) const;
     // found[i] = nearest_front(rays[i]) for i < count, a miss as found[i].surface = -1 (its hit
-    // then unset), traced in packets of eight through Embree's packet traversal: faster for
-    // coherent rays, such as an image's neighbours.
-    void nearest_front(const Ray* rays, std::size_t count, Found* found) const;
+    // then unset), traced in packets through Embree's packet traversal: faster for coherent
+    // rays, such as an image's neighbours. `packet`: 16 rays (where the processor has AVX-512,
+    // whose lanes then test a ball eight rays at a time), 8, or 0 for the widest it has.
+    void nearest_front(const Ray* rays, std::size_t count, Found* found, int packet = 0) const;
 
 private:
     struct Impl;

@@ -1,6 +1,7 @@
 #pragma once
 // A whole sphere's ray test, inline: SphereSurface (sphere.cpp) and the BVH's test of a
 // candidate ball (geometry/ray_index.cpp) share it, so both give the same distance bit for bit.
+// geometry/ball_hits_avx512.cpp repeats it in AVX-512 lanes, line by line: change both.
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -111,6 +112,7 @@ __attribute__((target("avx"))) inline void sphere_front_distance4(const Ray* con
     }
     _mm256_storeu_pd(out, blend4(take[0], lo, blend4(take[1], hi, inf)));
 }
+
 #endif
 
 }  // namespace radiosa
