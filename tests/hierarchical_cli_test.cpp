@@ -101,7 +101,7 @@ TEST(HierarchicalCli, StillMatchesTheDensePath) {
     const nlohmann::json j = read_json(d / "links.json");
     EXPECT_EQ(j["form_factor_method"], "hierarchical");
     EXPECT_EQ(j["link_tolerance"], 1e-5);
-    EXPECT_TRUE(j["receiver_tolerance"].is_null());
+    EXPECT_DOUBLE_EQ(j["receiver_tolerance"].get<double>(), 1e-5 / 8);  // automatic below 10,000 patches
     EXPECT_DOUBLE_EQ(j["form_factor_tolerance"].get<double>(), 1e-6);
     EXPECT_EQ(j["hierarchy"]["nodes"], 165);  // 6 faces of 9 patches (17 nodes) and 32 sphere patches (63)
     EXPECT_EQ(j["hierarchy"]["links"], j["hierarchy"]["leaf_links"]);
@@ -256,8 +256,9 @@ TEST(HierarchicalCli, RelitSequenceIsSolvedAheadOrCombinedOverLinks) {
     fs::remove_all(d);
 }
 
-// --ff-receiver-tolerance: in the report, part of the links' cache key (links built without it
-// are not served to a run with it), and refused without the hierarchical method.
+// --ff-receiver-tolerance: in the report, part of the links' cache key (links built with another
+// are not served to a run with it), 0 turns the automatic one off, and refused without the
+// hierarchical method.
 TEST(HierarchicalCli, ReceiverToleranceIsInTheReportAndTheCacheKey) {
     const fs::path d = fresh_dir("radiosa_hier_receivers");
     const std::string cache = (d / "cache").string();
@@ -277,11 +278,17 @@ TEST(HierarchicalCli, ReceiverToleranceIsInTheReportAndTheCacheKey) {
     ASSERT_EQ(r.code, 0) << r.err;
     r = render("held", {"--ff-method", "hierarchical", "--ff-receiver-tolerance", "2e-6"});
     ASSERT_EQ(r.code, 0) << r.err;
-    const nlohmann::json plain = read_json(d / "plain.json"), held = read_json(d / "held.json");
-    EXPECT_TRUE(plain["receiver_tolerance"].is_null());
+    r = render("off", {"--ff-method", "hierarchical", "--ff-receiver-tolerance", "0"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json plain = read_json(d / "plain.json"), held = read_json(d / "held.json"),
+                         off = read_json(d / "off.json");
+    EXPECT_DOUBLE_EQ(plain["receiver_tolerance"].get<double>(), 2e-5 / 8);  // 86 patches: automatic
     EXPECT_EQ(held["receiver_tolerance"], 2e-6);
+    EXPECT_TRUE(off["receiver_tolerance"].is_null());
     EXPECT_EQ(held["form_factor_cache"]["status"], "miss");
+    EXPECT_EQ(off["form_factor_cache"]["status"], "miss");
     EXPECT_NE(held["form_factor_cache"]["file"], plain["form_factor_cache"]["file"]);
+    EXPECT_NE(off["form_factor_cache"]["file"], plain["form_factor_cache"]["file"]);
     r = render("again", {"--ff-method", "hierarchical", "--ff-receiver-tolerance", "2e-6"});
     EXPECT_EQ(read_json(d / "again.json")["form_factor_cache"]["status"], "hit");
     r = render("dense", {"--ff-receiver-tolerance", "2e-6"});
@@ -291,6 +298,9 @@ TEST(HierarchicalCli, ReceiverToleranceIsInTheReportAndTheCacheKey) {
         "error: --ff-receiver-tolerance belongs to the hierarchical method: add --ff-method hierarchical, "
         "or remove it\n");
     EXPECT_FALSE(fs::exists(d / "dense.png"));
+    r = render("negative", {"--ff-method", "hierarchical", "--ff-receiver-tolerance", "-1e-6"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("must be 0 (off) or in [1e-12, 0.1], got -1e-6"), std::string::npos) << r.err;
     fs::remove_all(d);
 }
 

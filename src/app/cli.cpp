@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <new>
@@ -51,8 +52,18 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
         ->excludes(p);
     cmd->add_option("--ff-receiver-tolerance", req->receiver_tolerance,
                     "Hierarchical: also hold each link's misfit over its receiver to this (slower; rows "
-                    "closer to 1: docs/scale.md); overrides the scene's form_factors.receiver_tolerance")
-        ->check(CLI::Range(1e-12, 0.1))
+                    "closer to 1: docs/scale.md), 0 = off; overrides the scene's "
+                    "form_factors.receiver_tolerance (default: link tolerance / 8 up to 10,000 patches, "
+                    "off above)")
+        ->check(CLI::Validator(
+            [](std::string& v) {
+                char* end = nullptr;
+                const double x = std::strtod(v.c_str(), &end);
+                if (end == v.c_str() || *end) return std::string();  // not a number: the conversion says so
+                return x == 0.0 || (x >= 1e-12 && x <= 0.1) ? std::string()
+                                                            : "must be 0 (off) or in [1e-12, 0.1], got " + v;
+            },
+            "0 or [1e-12 - 0.1]"))
         ->excludes(p);
     cmd->add_option("--ff-method", req->method,
                     "Form-factor method: adaptive (the default), gauss (the paper's rule, -p points) or "

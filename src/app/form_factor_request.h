@@ -23,8 +23,9 @@ struct FormFactorRequest {
     std::optional<double> solve_tolerance;  // --solve-tolerance: overrides the scene's solve: tolerance
 
     FormFactorOptions options_for(const Scene& scene) const {
-        FormFactorOptions o = resolve_form_factor_options(scene.form_factors, method, tolerance, gauss_points,
-                                                          visibility, receiver_tolerance);
+        FormFactorOptions o =
+            resolve_form_factor_options(scene.form_factors, method, tolerance, gauss_points, visibility,
+                                        receiver_tolerance, scene.patch_count());
         o.culling = culling;
         if (receiver_tolerance && o.method != FormFactorMethod::Hierarchical)
             throw Error(

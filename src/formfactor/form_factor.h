@@ -34,6 +34,12 @@ const char* method_name(FormFactorMethod m);
 inline constexpr double kDefaultFormFactorTolerance = 1e-6;
 // The hierarchical method's default tolerance on each link (docs/scale.md).
 inline constexpr double kDefaultLinkTolerance = 2e-5;
+// Unless a run sets it, a hierarchical run's receiver tolerance is this fraction of its link
+// tolerance in scenes of up to kAutoReceiverMaxPatches patches, and off in larger ones, where
+// its 1.5 to 1.8 times the time and memory would take 100,000 patches past 4 GB (docs/scale.md,
+// "Receiver tolerance").
+inline constexpr double kAutoReceiverFraction = 0.125;
+inline constexpr int kAutoReceiverMaxPatches = 10000;
 
 struct FormFactorOptions {
     FormFactorMethod method = FormFactorMethod::Adaptive;
@@ -88,12 +94,15 @@ struct FormFactorOptions {
 struct FormFactorSettings;
 // The options a run uses: the command line's --ff-method, --gauss-points (fixed rule) or
 // --ff-tolerance, else the scene's form_factors block, else error control at
-// kDefaultFormFactorTolerance.
+// kDefaultFormFactorTolerance. A receiver tolerance of 0 (command line or scene) is off; none
+// given is the automatic one (kAutoReceiverFraction) for scenes of up to
+// kAutoReceiverMaxPatches `patches`.
 FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
                                               std::optional<std::string> method,
                                               std::optional<double> tolerance,
                                               std::optional<int> gauss_points, std::optional<bool> visibility,
-                                              std::optional<double> receiver_tolerance = std::nullopt);
+                                              std::optional<double> receiver_tolerance = std::nullopt,
+                                              int patches = 0);
 // "adaptive, tolerance 1e-06" or "Gauss p = 6 (1296 terms/pair)".
 std::string describe(const FormFactorOptions& o);
 

@@ -23,7 +23,7 @@ FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
                                               std::optional<std::string> method,
                                               std::optional<double> tolerance,
                                               std::optional<int> gauss_points, std::optional<bool> visibility,
-                                              std::optional<double> receiver_tolerance) {
+                                              std::optional<double> receiver_tolerance, int patches) {
     // The command line first, then the scene file; either names one method. A command-line
     // tolerance keeps the scene's hierarchical method (it is then the links' tolerance).
     const std::string scene_method = scene.hierarchical   ? "hierarchical"
@@ -42,11 +42,15 @@ FormFactorOptions resolve_form_factor_options(const FormFactorSettings& scene,
         o = FormFactorOptions::hierarchical(own ? tol : kDefaultLinkTolerance);
     else
         o = FormFactorOptions::adaptive(own ? tol : kDefaultFormFactorTolerance);
-    // The command line's receiver tolerance, else the scene's; never above the link tolerance.
+    // The command line's receiver tolerance, else the scene's (0: off), else the automatic one
+    // up to kAutoReceiverMaxPatches; never above the link tolerance.
     const std::optional<double> rt = receiver_tolerance   ? receiver_tolerance
                                      : scene.hierarchical ? scene.receiver_tolerance
                                                           : std::nullopt;
-    if (m == "hierarchical" && rt) o.receiver_tolerance = std::min(*rt, o.link_tolerance);
+    if (m == "hierarchical")
+        o.receiver_tolerance = rt                                   ? std::min(*rt, o.link_tolerance)
+                               : patches <= kAutoReceiverMaxPatches ? kAutoReceiverFraction * o.link_tolerance
+                                                                    : 0.0;
     o.visibility = visibility.value_or(scene.visibility);
     return o;
 }

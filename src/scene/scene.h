@@ -61,7 +61,8 @@ struct FormFactorSettings {
     std::optional<int> gauss_points;  // the paper's fixed rule, p points per parameter
     bool visibility = true;           // test occlusion
     bool hierarchical = false;        // method: hierarchical (tolerance is then the links')
-    // Hierarchical: the tolerance on each link's receiver misfit (FormFactorOptions).
+    // Hierarchical: the tolerance on each link's receiver misfit (FormFactorOptions); 0: off,
+    // none: automatic.
     std::optional<double> receiver_tolerance;
 };
 

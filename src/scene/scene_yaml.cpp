@@ -218,7 +218,12 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
             throw Error(loc_of(*t, file),
                         "receiver_tolerance belongs to method: hierarchical; add method: "
                         "hierarchical or remove it");
-        f.receiver_tolerance = read_tolerance(*t, file, "receiver_tolerance");
+        // 0: off (by default it is on in scenes of up to 10,000 patches: docs/scale.md).
+        const double v = yaml_number(*t, file, "receiver_tolerance");
+        if (!(v == 0.0 || (v >= kMinFormFactorTolerance && v <= 0.1)))
+            throw Error(loc_of(*t, file),
+                        "receiver_tolerance must be 0 (off) or in [1e-12, 0.1], got " + t->Scalar());
+        f.receiver_tolerance = v;
         if (f.tolerance && *f.receiver_tolerance > *f.tolerance)
             throw Error(loc_of(*t, file), "receiver_tolerance must not exceed tolerance (" +
                                               m.optional("tolerance")->Scalar() + "), got " + t->Scalar());

@@ -168,7 +168,26 @@ TEST(SceneYaml, ReceiverToleranceBelongsToTheHierarchicalMethod) {
                   "form_factors: {method: hierarchical, tolerance: 1e-5, receiver_tolerance: 2e-5}\n" + body),
               "s.yaml:1:75: receiver_tolerance must not exceed tolerance (1e-5), got 2e-5");
     EXPECT_EQ(parse_error("form_factors: {method: hierarchical, receiver_tolerance: -1}\n" + body),
-              "s.yaml:1:58: receiver_tolerance must be in [1e-12, 0.1], got -1");
+              "s.yaml:1:58: receiver_tolerance must be 0 (off) or in [1e-12, 0.1], got -1");
+    // None given: link tolerance / 8 up to 10,000 patches, off above; 0: off.
+    const Scene plain = parse_scene("form_factors: {method: hierarchical}\n" + body, "s.yaml");
+    const auto automatic = [&](int patches) {
+        return resolve_form_factor_options(plain.form_factors, std::nullopt, std::nullopt, std::nullopt,
+                                           std::nullopt, std::nullopt, patches)
+            .receiver_tolerance;
+    };
+    EXPECT_EQ(automatic(kAutoReceiverMaxPatches), kDefaultLinkTolerance / 8);
+    EXPECT_EQ(automatic(kAutoReceiverMaxPatches + 1), 0.0);
+    const Scene off =
+        parse_scene("form_factors: {method: hierarchical, receiver_tolerance: 0}\n" + body, "s.yaml");
+    EXPECT_EQ(resolve_form_factor_options(off.form_factors, std::nullopt, std::nullopt, std::nullopt,
+                                          std::nullopt, std::nullopt, 86)
+                  .receiver_tolerance,
+              0.0);
+    EXPECT_EQ(resolve_form_factor_options(plain.form_factors, std::nullopt, std::nullopt, std::nullopt,
+                                          std::nullopt, 0.0, 86)
+                  .receiver_tolerance,
+              0.0);  // --ff-receiver-tolerance 0
 }
 
 TEST(SceneYaml, UnknownKeyNamesItsLine) {
