@@ -60,8 +60,8 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
                 char* end = nullptr;
                 const double x = std::strtod(v.c_str(), &end);
                 if (end == v.c_str() || *end) return std::string();  // not a number: the conversion says so
-                return x == 0.0 || (x >= 1e-12 && x <= 0.1) ? std::string()
-                                                            : "must be 0 (off) or in [1e-12, 0.1], got " + v;
+                return valid_receiver_tolerance(x) ? std::string()
+                                                   : "must be 0 (off) or in [1e-12, 0.1], got " + v;
             },
             "0 or [1e-12 - 0.1]"))
         ->excludes(p);

@@ -133,6 +133,7 @@ struct RayIndex::Impl {
         RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
         for (unsigned i = 0; i < kPacket; ++i)
             if (args->valid[i] && RTCRayN_id(rays, args->N, i) != i) return false;
+        const double center[3] = {ball.center.x, ball.center.y, ball.center.z};
         for (unsigned h = 0; h < kPacket; h += 8) {
             unsigned any = 0;
             double limit[8], d[8];
@@ -143,7 +144,6 @@ struct RayIndex::Impl {
             if (!any) continue;
             const double* const ray[6] = {q->soa->ray[0] + h, q->soa->ray[1] + h, q->soa->ray[2] + h,
                                           q->soa->ray[3] + h, q->soa->ray[4] + h, q->soa->ray[5] + h};
-            const double center[3] = {ball.center.x, ball.center.y, ball.center.z};
             sphere_front_distance8(ray, center, ball.radius, ball.orientation, limit, d);
             for (unsigned r = 0; r < 8; ++r)
                 if (args->valid[h + r] && d[r] < q->lanes[h + r].next)
@@ -158,7 +158,6 @@ struct RayIndex::Impl {
         const unsigned n = args->N;
         RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, n);
         const int k = static_cast<int>(args->primID);
-        const auto take = [&](unsigned i, Lane& l, double d) { Impl::take(args, q, i, l, d); };
         const Surface::Ball& ball = q->index->balls[static_cast<std::size_t>(k)];
         if (ball.radius > 0.0) {
             // A whole sphere: a packet of 16 eight lanes at a time (AVX-512), else its valid
@@ -187,7 +186,7 @@ struct RayIndex::Impl {
                 sphere_front_distance4(four, ball.center, ball.radius, ball.orientation, limit, d);
                 for (unsigned r = 0; r < 4 && j + r < m; ++r) {
                     Lane& l = q->lanes[RTCRayN_id(rays, n, ids[r])];
-                    if (d[r] < l.next) take(ids[r], l, d[r]);
+                    if (d[r] < l.next) take(args, q, ids[r], l, d[r]);
                 }
             }
 #endif
@@ -195,7 +194,7 @@ struct RayIndex::Impl {
                 Lane& l = q->lanes[RTCRayN_id(rays, n, lane[j])];
                 const double d =
                     sphere_front_distance(*l.ray, ball.center, ball.radius, ball.orientation, 0.0, l.next);
-                if (d < l.next) take(lane[j], l, d);
+                if (d < l.next) take(args, q, lane[j], l, d);
             }
             return;
         }
@@ -203,7 +202,7 @@ struct RayIndex::Impl {
         for (unsigned i = 0; i < n; ++i) {
             if (!args->valid[i]) continue;
             Lane& l = q->lanes[RTCRayN_id(rays, n, i)];
-            if (const auto d = surface.front_distance(*l.ray, 0.0, l.next)) take(i, l, *d);
+            if (const auto d = surface.front_distance(*l.ray, 0.0, l.next)) take(args, q, i, l, *d);
         }
     }
 

@@ -98,6 +98,10 @@ inline constexpr int kMaxPatches = 1000000;
 inline constexpr int kMaxDensePatches = 20000;
 inline constexpr int kMaxGaussPoints = 64;
 inline constexpr double kMinFormFactorTolerance = 1e-12;  // below this, round-off dominates
+// A receiver tolerance, from the scene or the command line: 0 (off) or a tolerance.
+inline bool valid_receiver_tolerance(double v) {
+    return v == 0.0 || (v >= kMinFormFactorTolerance && v <= 0.1);
+}
 
 // Per-patch reflectance and emission, from the scene (patch_emission overrides included), in
 // patch order (surface by surface, s fastest). Kept apart from the geometry: colours and lights

@@ -220,7 +220,7 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
                         "hierarchical or remove it");
         // 0: off (by default it is on in scenes of up to 10,000 patches: docs/scale.md).
         const double v = yaml_number(*t, file, "receiver_tolerance");
-        if (!(v == 0.0 || (v >= kMinFormFactorTolerance && v <= 0.1)))
+        if (!valid_receiver_tolerance(v))
             throw Error(loc_of(*t, file),
                         "receiver_tolerance must be 0 (off) or in [1e-12, 0.1], got " + t->Scalar());
         f.receiver_tolerance = v;
