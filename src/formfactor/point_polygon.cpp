@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "formfactor/convex_clip.h"
@@ -23,14 +24,24 @@ double angle_between(const Vec3& a, const Vec3& b) {
     return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
 
-// Length of the part of the great-circle arc a -> b (unit vectors, angle gamma) inside the
-// cap {w : w . d >= cos_a}.
+// Length of the part of the great-circle arc a -> b (unit vectors, angle gamma < pi) inside the
+// cap {w : w . d >= cos_a} (cos_a > 0).
 double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d, double cos_a) {
     if (gamma <= 0.0) return 0.0;
     const Vec3 w = unit_or_zero(b - glm::dot(b, a) * a);
     const double p = glm::dot(a, d), q = glm::dot(w, d);
     const double amp = std::sqrt(p * p + q * q);
     if (amp <= cos_a) return 0.0;
+    // Both ends clearly inside the cap: so is the arc (the cap is convex on the sphere). Both
+    // clearly outside, and the arc's point nearest d (angle atan2(q, p)) not between them: the
+    // arc misses the cap. The margin is far above what rounding moves the angles below, so
+    // either answer is the one they give.
+    constexpr double kMargin = 1e-12;
+    const double pb = glm::dot(b, d);
+    if (p >= cos_a + kMargin && pb >= cos_a + kMargin) return gamma;
+    if (p <= cos_a - kMargin && pb <= cos_a - kMargin &&
+        !(q > 0.0 && p * glm::length(glm::cross(a, b)) - q * glm::dot(a, b) > 0.0))
+        return 0.0;
     const double phi0 = std::atan2(q, p), delta = std::acos(std::min(1.0, cos_a / amp));
     double len = 0.0;
     for (double shift : {-2 * kPi, 0.0, 2 * kPi}) {
@@ -47,7 +58,7 @@ int clip_to_front(const Vec3& x, const Vec3& n, const Vec3* v, int count,
     int nc = 0;
     for (int k = count - 1; k >= 0; --k) {
         const Vec3& a = v[k];
-        const Vec3& b = v[(k + count - 1) % count];
+        const Vec3& b = v[k == 0 ? count - 1 : k - 1];
         const double da = glm::dot(n, a - x), db = glm::dot(n, b - x);
         if (da >= 0.0) (*clipped)[nc++] = a;
         if ((da >= 0.0) != (db >= 0.0) && nc < kMaxVerts) (*clipped)[nc++] = a + (b - a) * (da / (da - db));
@@ -72,11 +83,11 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
     struct CutPoint {
         double key, c, s;
     };
-    std::array<CutPoint, 2 * kMaxVerts> cuts{};
+    std::array<CutPoint, 2 * kMaxVerts> cuts;
     int ncuts = 0;
     std::array<Vec3, kMaxVerts> mk;
     for (int k = 0; k < nc; ++k) {
-        mk[k] = glm::cross(w[k], w[(k + 1) % nc]);
+        mk[k] = glm::cross(w[k], w[k + 1 == nc ? 0 : k + 1]);
         const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
         const double amp = std::sqrt(b1 * b1 + b2 * b2);
         if (amp * sin_a <= std::abs(a0) * cos_a)
@@ -100,25 +111,40 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
               [](const CutPoint& a, const CutPoint& b) { return a.key < b.key; });
     for (int c = 0; c < ncuts; ++c) {
         const CutPoint& p1 = cuts[c];
-        const CutPoint& p2 = cuts[(c + 1) % ncuts];
+        const CutPoint& p2 = cuts[c + 1 == ncuts ? 0 : c + 1];
         const double dkey = c + 1 < ncuts ? p2.key - p1.key : p2.key + 4.0 - p1.key;
         if (!(dkey > 0.0)) continue;
+        const double sy = p1.c * p2.s - p1.s * p2.c, cy = p1.c * p2.c + p1.s * p2.s;
         // The piece's angle: atan2's branch nearest the pseudo-angles' rough measure of it.
-        double delta = std::atan2(p1.c * p2.s - p1.s * p2.c, p1.c * p2.c + p1.s * p2.s);
-        delta += 2 * kPi * std::round((0.5 * kPi * dkey - delta) / (2 * kPi));
-        if (!(delta > 0.0)) continue;
+        auto angle = [&] {
+            const double raw = std::atan2(sy, cy);
+            return raw + 2 * kPi * std::round((0.5 * kPi * dkey - raw) / (2 * kPi));
+        };
         // Its middle: the bisector of its ends (their sum, or its opposite past a half turn),
         // by rotation where the two nearly cancel.
         double mc = p1.c + p2.c, ms = p1.s + p2.s;
         const double ml = std::sqrt(mc * mc + ms * ms);
-        if (ml > 0.25) {
-            const double f = (delta > kPi ? -1.0 : 1.0) / ml;
+        double delta = std::numeric_limits<double>::quiet_NaN();
+        if (ml > 0.25 && std::abs(sy) > 1e-6) {
+            // Clear of a half turn (the ends do not nearly cancel) and of a point or a whole
+            // turn: the sign of its sine says on which side of a half turn the angle lies (the
+            // pseudo-angles are within 0.66 rad of it), and the angle waits until the piece
+            // is known to lie inside.
+            const double f = (sy < 0.0 ? -1.0 : 1.0) / ml;
             mc *= f, ms *= f;
         } else {
-            const double h = 0.5 * delta, ch = std::cos(h), sh = std::sin(h);
-            mc = p1.c * ch - p1.s * sh, ms = p1.s * ch + p1.c * sh;
+            delta = angle();
+            if (!(delta > 0.0)) continue;
+            if (ml > 0.25) {
+                const double f = (delta > kPi ? -1.0 : 1.0) / ml;
+                mc *= f, ms *= f;
+            } else {
+                const double h = 0.5 * delta, ch = std::cos(h), sh = std::sin(h);
+                mc = p1.c * ch - p1.s * sh, ms = p1.s * ch + p1.c * sh;
+            }
         }
         if (!inside(mc, ms)) continue;
+        if (std::isnan(delta)) delta = angle();
         const Vec3 integral =
             cos_a * sin_a * ((p2.c - p1.c) * e2 - (p2.s - p1.s) * e1) + sin_a * sin_a * delta * d;
         blocked += glm::dot(n, integral);
@@ -144,7 +170,7 @@ void measure(const Vec3& n, SphericalPolygon* sp) {
     sp->measured = true;
     sp->whole = 0.0;
     for (int k = 0; k < sp->nc; ++k) {
-        sp->gamma[k] = angle_between(sp->w[k], sp->w[(k + 1) % sp->nc]);
+        sp->gamma[k] = angle_between(sp->w[k], sp->w[k + 1 == sp->nc ? 0 : k + 1]);
         sp->whole += sp->gamma[k] * glm::dot(n, sp->u[k]);
     }
 }
@@ -153,7 +179,7 @@ void measure(const Vec3& n, SphericalPolygon* sp) {
 bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPolygon* sp) {
     // Front side of the polygon (Newell normal, robust for any planar polygon).
     Vec3 m(0.0);
-    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[(k + 1) % count]);
+    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[k + 1 == count ? 0 : k + 1]);
     if (glm::dot(m, x - v[0]) <= 0.0) return false;
 
     std::array<Vec3, kMaxVerts> clipped;
@@ -161,7 +187,8 @@ bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPo
     if (sp->nc < 3) return false;
     for (int k = 0; k < sp->nc; ++k) sp->w[k] = unit_or_zero(clipped[k] - x);
 
-    for (int k = 0; k < sp->nc; ++k) sp->u[k] = unit_or_zero(glm::cross(sp->w[k], sp->w[(k + 1) % sp->nc]));
+    for (int k = 0; k < sp->nc; ++k)
+        sp->u[k] = unit_or_zero(glm::cross(sp->w[k], sp->w[k + 1 == sp->nc ? 0 : k + 1]));
     sp->measured = false;
     return true;
 }
@@ -194,7 +221,7 @@ double blocked_part(SphericalPolygon& sp, const Vec3& x, const Vec3& n, const Bo
     // (1) polygon edges inside the cap.
     bool edge_inside = false;
     for (int k = 0; k < sp.nc; ++k) {
-        const double len = arc_inside_cap(sp.w[k], sp.w[(k + 1) % sp.nc], sp.gamma[k], d, cos_a);
+        const double len = arc_inside_cap(sp.w[k], sp.w[k + 1 == sp.nc ? 0 : k + 1], sp.gamma[k], d, cos_a);
         edge_inside = edge_inside || len > 0.0;
         blocked += len * glm::dot(n, sp.u[k]);
     }

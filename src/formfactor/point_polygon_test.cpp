@@ -128,6 +128,29 @@ TEST(PointPolygon, BlockedPartAnswersUmbraAndCornerAtOnce) {
     EXPECT_NEAR(sum, sin_a * sin_a * ball.center.z / dist, 1e-14);
 }
 
+// Edges wholly inside the ball's cone take their whole angle without the arc's trigonometry.
+// A kite whose lower half lies inside the cone (its two lower edges wholly inside) is its upper
+// triangle (whose base, the kite's diagonal, lies wholly inside) plus its lower one, which is
+// wholly blocked: their blocked parts add up, and the lower one's is its whole factor.
+TEST(PointPolygon, EdgesWhollyInsideTheConeAddUp) {
+    const Vec3 x(0.0), n(0, 0, 1);
+    const BoundingSphere ball{Vec3(0, 0, 4), 1.0};  // its cone meets z = 5 in |(x, y)| < 1.29
+    const Vec3 a(-0.5, 0.3, 5), p(0, -0.6, 5), b(0.5, 0.3, 5), q(0, 3, 5);
+    const Vec3 kite[4] = {q, b, p, a}, upper[3] = {q, b, a}, lower[3] = {b, p, a};  // facing x
+    const double whole_lower = point_to_polygon(x, n, lower, 3, nullptr);
+    EXPECT_GT(whole_lower, 0.0);
+    EXPECT_EQ(point_to_polygon_blocked(x, n, lower, 3, ball), whole_lower);
+    const double k = point_to_polygon_blocked(x, n, kite, 4, ball);
+    const double u = point_to_polygon_blocked(x, n, upper, 3, ball);
+    EXPECT_GT(u, 0.0);
+    EXPECT_LT(u, point_to_polygon(x, n, upper, 3, nullptr));  // the apex q lies outside the cone
+    EXPECT_NEAR(k, u + whole_lower, 1e-15);
+    // Mirrored in x = 0 (the order reversed to keep the front side): the same values.
+    const auto mirror = [](const Vec3& v) { return Vec3(-v.x, v.y, v.z); };
+    const Vec3 kite_m[4] = {mirror(a), mirror(p), mirror(b), mirror(q)};
+    EXPECT_NEAR(point_to_polygon_blocked(x, n, kite_m, 4, ball), k, 1e-15);
+}
+
 // The cap arc of a sphere seen near the far end of a polygon edge that spans almost half the
 // sky (the horizon edge of a large wall close to x): its interval on the edge wraps past +pi and
 // is found only through the 2 pi shift. The mirror image puts the sphere near the edge's start,
