@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -29,6 +30,31 @@ FormFactors seed(FormFactorOptions o) {
 }
 
 }  // namespace
+
+// Two rectangles facing each other across a ball are wholly hidden from each other exactly
+// when every segment between them passes through it, which their corners decide: the
+// segment between matching corners of two squares of half-side h at z = -2 and z = 2 passes
+// h sqrt(2) from the centre of a unit ball at the origin. Crossed rectangles 2 x 0.6 are
+// hidden (each segment's middle lies within (1 + 0.3) / sqrt(2) = 0.92 of the centre), though
+// their bounding balls (radius 1.04) could not show it; the same rectangles side by side are
+// not (matching corners pass 1.04 from the centre).
+TEST(Culling, SegmentsThroughABallAreProvenByTheCorners) {
+    const BoundingSphere ball{Vec3(0.0), 1.0};
+    const auto rect = [](double w, double h, double z) {
+        return std::array<Vec3, 4>{Vec3(-w, -h, z), Vec3(w, -h, z), Vec3(w, h, z), Vec3(-w, h, z)};
+    };
+    EXPECT_TRUE(segments_through_ball(rect(0.70, 0.70, -2), rect(0.70, 0.70, 2), ball, 1e-12));
+    EXPECT_FALSE(segments_through_ball(rect(0.71, 0.71, -2), rect(0.71, 0.71, 2), ball, 1e-12));
+    EXPECT_TRUE(segments_through_ball(rect(1.0, 0.3, -2), rect(0.3, 1.0, 2), ball, 1e-12));
+    EXPECT_FALSE(segments_through_ball(rect(1.0, 0.3, -2), rect(1.0, 0.3, 2), ball, 1e-12));
+    // Off the middle: a ball of radius 0.5 at z = 1 hides a square of half-side 0.1 at z = -2
+    // from one of half-side 0.3 at z = 2 (at t = 3/4 the corners' combinations lie within
+    // sqrt(2) (0.1 / 4 + 0.3 * 3 / 4) = 0.35 of its centre), but not from one of half-side 0.5
+    // (the segment from (0.1, 0.1, -2) to (0.5, 0.5, 2) passes 0.56 from it).
+    const BoundingSphere off{Vec3(0, 0, 1), 0.5};
+    EXPECT_TRUE(segments_through_ball(rect(0.1, 0.1, -2), rect(0.3, 0.3, 2), off, 1e-12));
+    EXPECT_FALSE(segments_through_ball(rect(0.1, 0.1, -2), rect(0.5, 0.5, 2), off, 1e-12));
+}
 
 // The paper's fixed rule evaluates the same terms either way: a culled pair's terms are all
 // zero and a culled occluder's tests all miss, so the matrices agree to the last bit.

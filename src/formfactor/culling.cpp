@@ -1,5 +1,6 @@
 #include "formfactor/culling.h"
 
+#include <algorithm>
 #include <array>
 
 #include "util/convex_distance.h"
@@ -25,6 +26,36 @@ std::pair<double, double> extent(const SceneGeometry& g, const Patch& p, const P
 }
 
 }  // namespace
+
+bool segments_through_ball(std::span<const Vec3> a, std::span<const Vec3> b, const BoundingSphere& ball,
+                           double eps) {
+    constexpr std::size_t kMaxCorners = 8;
+    if (a.empty() || b.empty() || a.size() > kMaxCorners || b.size() > kMaxCorners) return false;
+    const double r = ball.radius - eps;
+    if (!(r > 0.0)) return false;
+    std::array<Vec3, kMaxCorners> da, db;  // the corners from the centre
+    for (std::size_t i = 0; i < a.size(); ++i) da[i] = a[i] - ball.center;
+    for (std::size_t j = 0; j < b.size(); ++j) db[j] = b[j] - ball.center;
+    const auto farthest = [&](double t) {  // squared
+        double m = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i)
+            for (std::size_t j = 0; j < b.size(); ++j) {
+                const Vec3 p = (1.0 - t) * da[i] + t * db[j];
+                m = std::max(m, glm::dot(p, p));
+            }
+        return m;
+    };
+    // The search stops once the bracket is 1e-4 wide: near its minimum the distance moves
+    // by less than that fraction of the corners' spread.
+    double lo = 0.0, hi = 1.0;
+    while (hi - lo > 1e-4) {
+        const double t1 = lo + (hi - lo) / 3.0, t2 = hi - (hi - lo) / 3.0;
+        const double f1 = farthest(t1), f2 = farthest(t2);
+        if (std::min(f1, f2) < r * r) return true;
+        (f1 < f2 ? hi : lo) = f1 < f2 ? t2 : t1;
+    }
+    return false;
+}
 
 Culling::Culling(const SceneGeometry& g) : m_geo(g), m_eps(1e-12 * g.scale()) {
     const Vec3 axes[3] = {Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};

@@ -2,6 +2,7 @@
 // Work proven useless, left out of the form-factor integrals: pairs that cannot exchange energy,
 // and surfaces that cannot come between a pair (so no segment between them is tested).
 #include <array>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -21,6 +22,15 @@ bool own_surface_clear(const SceneGeometry& g, int a, int b, int k, bool* own);
 inline bool one_side_of_plane(std::pair<double, double> ea, std::pair<double, double> eb, double eps) {
     return (ea.first >= -eps && eb.first >= -eps) || (ea.second <= eps && eb.second <= eps);
 }
+
+// Every segment from a point of the convex hull of `a` to a point of the hull of `b` passes
+// deeper than eps inside the ball, proven at one fraction t along them: the points
+// (1 - t) x + t y fill the hull of the corners' combinations (1 - t) a_i + t b_j, so the
+// farthest of those from the centre is the farthest of all. That distance is convex in t
+// (a maximum of convex functions), and t is found by ternary search. With both hulls outside
+// the ball, each such segment crosses its surface: a whole sphere hides them from each other.
+bool segments_through_ball(std::span<const Vec3> a, std::span<const Vec3> b, const BoundingSphere& ball,
+                           double eps);
 
 class Culling {
 public:

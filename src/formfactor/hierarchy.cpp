@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 #include "formfactor/blocker_set.h"
 #include "formfactor/cubature.h"
@@ -243,6 +244,10 @@ private:
     // exactly nothing. At a fraction t along the segment from x in p's bounding ball (centre
     // a, radius r_a) to y in q's (b, r_b), the point (1 - t) x + t y lies within (1 - t) r_a +
     // t r_b of (1 - t) a + t b; with t where the centre line passes nearest the ball's centre.
+    // Flat nodes whose balls leave that in doubt are tried by their corners
+    // (segments_through_ball): a rectangle's bounding ball reaches past its sides, and on the
+    // seed room at 5,216 patches a fifth of the wall pairs shadowed by the ball were wholly
+    // hidden, yet integrated.
     bool hidden_by_ball(int p, int q) const {
         if (!m_leaf.visibility) return false;
         const BoundingSphere& a = node(p).bound;
@@ -254,14 +259,30 @@ private:
             if (k == node(p).surface || k == node(q).surface) continue;
             const double t = glm::dot(ball.center - a.center, e) / l2;
             if (!(t > 0.0 && t < 1.0)) continue;
-            const double reach =
-                glm::length(a.center + t * e - ball.center) + (1.0 - t) * a.radius + t * b.radius;
-            if (reach < ball.radius - m_eps &&
-                glm::length(a.center - ball.center) > ball.radius + a.radius + m_eps &&
-                glm::length(b.center - ball.center) > ball.radius + b.radius + m_eps)
-                return true;
+            const double miss = glm::length(a.center + t * e - ball.center);
+            if (!(miss < ball.radius - m_eps) || !outside(p, ball) || !outside(q, ball)) continue;
+            if (miss + (1.0 - t) * a.radius + t * b.radius < ball.radius - m_eps) return true;
+            if (const auto cp = flat_corners(p))
+                if (const auto cq = flat_corners(q); cq && segments_through_ball(*cp, *cq, ball, m_eps))
+                    return true;
         }
         return false;
+    }
+    // Node n lies wholly outside the ball: its bounding ball does, or its plane passes by it.
+    bool outside(int n, const BoundingSphere& ball) const {
+        const BoundingSphere& nb = node(n).bound;
+        if (glm::length(nb.center - ball.center) > ball.radius + nb.radius + m_eps) return true;
+        const auto pl = m_g.surface(node(n).surface).plane();
+        return pl && std::abs(pl->signed_distance(ball.center)) > ball.radius + m_eps;
+    }
+    // The corners of a node of a surface whose patches are polygons: the node is the polygon
+    // they bound.
+    std::optional<std::array<Vec3, 4>> flat_corners(int n) const {
+        const Surface& s = m_g.surface(node(n).surface);
+        if (!s.patches_are_polygons()) return std::nullopt;
+        const Rect r = node_rect(m_g, node(n));
+        return std::array<Vec3, 4>{s.point(r.s0, r.t0), s.point(r.s1, r.t0), s.point(r.s1, r.t1),
+                                   s.point(r.s0, r.t1)};
     }
 
     // Surfaces whose bounding spheres come near the segments between the two nodes, less those
