@@ -52,7 +52,10 @@ bool segments_through_ball(std::span<const Vec3> a, std::span<const Vec3> b, con
         const double t1 = lo + (hi - lo) / 3.0, t2 = hi - (hi - lo) / 3.0;
         const double f1 = farthest(t1), f2 = farthest(t2);
         if (std::min(f1, f2) < r * r) return true;
-        (f1 < f2 ? hi : lo) = f1 < f2 ? t2 : t1;
+        if (f1 < f2)
+            hi = t2;
+        else
+            lo = t1;
     }
     return false;
 }
