@@ -19,14 +19,20 @@ Vec3 unit_or_zero(const Vec3& v) {
     return l > 0.0 ? v / l : Vec3(0.0);
 }
 
-// Angle between unit vectors, accurate for small and large angles.
-double angle_between(const Vec3& a, const Vec3& b) {
-    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
-}
+// The index after k in a cycle of n (no division: these loops are the innermost of every
+// shadowed pair).
+int next_in_cycle(int k, int n) { return k + 1 == n ? 0 : k + 1; }
 
-// Length of the part of the great-circle arc a -> b (unit vectors, angle gamma < pi) inside the
-// cap {w : w . d >= cos_a} (cos_a > 0).
-double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d, double cos_a) {
+// An arc of the spherical polygon's boundary: its angle gamma < pi, and sin(gamma) and
+// cos(gamma) up to one positive factor (|a x b| and a . b, which the angle is the atan2 of).
+struct ArcAngle {
+    double gamma = 0.0, sin = 0.0, cos = 0.0;
+};
+
+// Length of the part of the great-circle arc a -> b (unit vectors) inside the cap
+// {w : w . d >= cos_a} (cos_a > 0).
+double arc_inside_cap(const Vec3& a, const Vec3& b, const ArcAngle& arc, const Vec3& d, double cos_a) {
+    const double gamma = arc.gamma;
     if (gamma <= 0.0) return 0.0;
     const Vec3 w = unit_or_zero(b - glm::dot(b, a) * a);
     const double p = glm::dot(a, d), q = glm::dot(w, d);
@@ -39,8 +45,7 @@ double arc_inside_cap(const Vec3& a, const Vec3& b, double gamma, const Vec3& d,
     constexpr double kMargin = 1e-12;
     const double pb = glm::dot(b, d);
     if (p >= cos_a + kMargin && pb >= cos_a + kMargin) return gamma;
-    if (p <= cos_a - kMargin && pb <= cos_a - kMargin &&
-        !(q > 0.0 && p * glm::length(glm::cross(a, b)) - q * glm::dot(a, b) > 0.0))
+    if (p <= cos_a - kMargin && pb <= cos_a - kMargin && !(q > 0.0 && p * arc.sin - q * arc.cos > 0.0))
         return 0.0;
     const double phi0 = std::atan2(q, p), delta = std::acos(std::min(1.0, cos_a / amp));
     double len = 0.0;
@@ -87,7 +92,7 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
     int ncuts = 0;
     std::array<Vec3, kMaxVerts> mk;
     for (int k = 0; k < nc; ++k) {
-        mk[k] = glm::cross(w[k], w[k + 1 == nc ? 0 : k + 1]);
+        mk[k] = glm::cross(w[k], w[next_in_cycle(k, nc)]);
         const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
         const double amp = std::sqrt(b1 * b1 + b2 * b2);
         if (amp * sin_a <= std::abs(a0) * cos_a)
@@ -111,7 +116,7 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
               [](const CutPoint& a, const CutPoint& b) { return a.key < b.key; });
     for (int c = 0; c < ncuts; ++c) {
         const CutPoint& p1 = cuts[c];
-        const CutPoint& p2 = cuts[c + 1 == ncuts ? 0 : c + 1];
+        const CutPoint& p2 = cuts[next_in_cycle(c, ncuts)];
         const double dkey = c + 1 < ncuts ? p2.key - p1.key : p2.key + 4.0 - p1.key;
         if (!(dkey > 0.0)) continue;
         const double sy = p1.c * p2.s - p1.s * p2.c, cy = p1.c * p2.c + p1.s * p2.s;
@@ -157,7 +162,7 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
 // over it (2 pi times the unblocked form factor).
 struct SphericalPolygon {
     std::array<Vec3, kMaxVerts> w, u;
-    std::array<double, kMaxVerts> gamma{};
+    std::array<ArcAngle, kMaxVerts> arc{};
     int nc = 0;
     double whole = 0.0;
     bool measured = false;
@@ -170,8 +175,13 @@ void measure(const Vec3& n, SphericalPolygon* sp) {
     sp->measured = true;
     sp->whole = 0.0;
     for (int k = 0; k < sp->nc; ++k) {
-        sp->gamma[k] = angle_between(sp->w[k], sp->w[k + 1 == sp->nc ? 0 : k + 1]);
-        sp->whole += sp->gamma[k] * glm::dot(n, sp->u[k]);
+        const Vec3& a = sp->w[k];
+        const Vec3& b = sp->w[next_in_cycle(k, sp->nc)];
+        ArcAngle& arc = sp->arc[k];
+        arc.sin = glm::length(glm::cross(a, b));
+        arc.cos = glm::dot(a, b);
+        arc.gamma = std::atan2(arc.sin, arc.cos);  // accurate for small and large angles
+        sp->whole += arc.gamma * glm::dot(n, sp->u[k]);
     }
 }
 
@@ -179,7 +189,7 @@ void measure(const Vec3& n, SphericalPolygon* sp) {
 bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPolygon* sp) {
     // Front side of the polygon (Newell normal, robust for any planar polygon).
     Vec3 m(0.0);
-    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[k + 1 == count ? 0 : k + 1]);
+    for (int k = 0; k < count; ++k) m += glm::cross(v[k], v[next_in_cycle(k, count)]);
     if (glm::dot(m, x - v[0]) <= 0.0) return false;
 
     std::array<Vec3, kMaxVerts> clipped;
@@ -188,7 +198,7 @@ bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPo
     for (int k = 0; k < sp->nc; ++k) sp->w[k] = unit_or_zero(clipped[k] - x);
 
     for (int k = 0; k < sp->nc; ++k)
-        sp->u[k] = unit_or_zero(glm::cross(sp->w[k], sp->w[k + 1 == sp->nc ? 0 : k + 1]));
+        sp->u[k] = unit_or_zero(glm::cross(sp->w[k], sp->w[next_in_cycle(k, sp->nc)]));
     sp->measured = false;
     return true;
 }
@@ -221,7 +231,7 @@ double blocked_part(SphericalPolygon& sp, const Vec3& x, const Vec3& n, const Bo
     // (1) polygon edges inside the cap.
     bool edge_inside = false;
     for (int k = 0; k < sp.nc; ++k) {
-        const double len = arc_inside_cap(sp.w[k], sp.w[k + 1 == sp.nc ? 0 : k + 1], sp.gamma[k], d, cos_a);
+        const double len = arc_inside_cap(sp.w[k], sp.w[next_in_cycle(k, sp.nc)], sp.arc[k], d, cos_a);
         edge_inside = edge_inside || len > 0.0;
         blocked += len * glm::dot(n, sp.u[k]);
     }
