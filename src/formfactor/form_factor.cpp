@@ -167,7 +167,9 @@ public:
         Estimate e;
         if (pi.polygon && pj.polygon && i != j) {
             const std::array<Vec3, 4> a = polygon(i), b = polygon(j);
-            const PolygonPair p = polygon_to_polygon(a.data(), 4, b.data(), 4);
+            // Pairs integrated in one direction (the hierarchy's) need only the tolerance.
+            const double abs_tol = m_opt.one_direction ? m_opt.tolerance * std::min(pi.area, pj.area) : 0.0;
+            const PolygonPair p = polygon_to_polygon(a.data(), 4, b.data(), 4, abs_tol);
             e.value = p.value;
             e.error = p.error;
             return e;

@@ -55,7 +55,8 @@ struct FormFactorOptions {
     // entry by reciprocity), about half the work of a pair. Off, both directions are
     // integrated independently wherever the patches' areas are within 4x, so that the
     // matrix's reciprocity checks them. The hierarchy's pairs of patches set it (their links
-    // are reciprocal by construction, as the links above them are).
+    // are reciprocal by construction, as the links above them are); their closed forms then
+    // stop at the tolerance too, instead of at round-off.
     bool one_direction = false;
     // Leave out the work proven useless: pairs that cannot see each other (no quadrature) and
     // surfaces that cannot come between a pair (no occlusion tests; with none left, the closed
@@ -108,9 +109,9 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 16;
+inline constexpr int kFormFactorAlgorithmVersion = 17;
 // The same for the hierarchy's links (formfactor/hierarchy.h), in their cache key.
-inline constexpr int kHierarchyAlgorithmVersion = 10;
+inline constexpr int kHierarchyAlgorithmVersion = 11;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included

@@ -9,7 +9,9 @@
 // integral along edge l is in closed form; the outer one, along edge k, is an adaptive
 // Gauss-Kronrod (7, 15) rule whose integrand is smooth except for r ln r kinks where edges are
 // collinear (shared edges). By default every entry comes out exact to round-off at any gap and
-// scale; given an absolute tolerance, the outer rule stops once its error estimate is within it
+// scale; given an absolute tolerance, the outer rule stops once its error estimate is within it,
+// and parallel edges (every edge pair that counts between two axis-aligned rectangles:
+// perpendicular ones add nothing) take both integrals in closed form where its rounding allows
 // (pairs whose entry only needs a tolerance, such as the hierarchy's pairs of patches, pay for
 // that and no more).
 #include "util/math.h"
@@ -21,6 +23,16 @@ struct PolygonPair {
     double error = 0.0;   // bound on |value - exact|: quadrature estimates plus rounding
     int evaluations = 0;  // inner closed forms evaluated (a cost measure)
 };
+
+// The double integral of ln(r / rho), with ln rho = `log_rho`, over two parallel segments
+// whose lines lie `h` apart, positions measured along a common axis: the first covers
+// [0, len_a], the second [b0, b1] (b0 <= b1). `error` bounds its rounding. Exact at touching
+// and collinear segments. polygon_to_polygon takes it for every pair of parallel edges.
+struct ParallelEdges {
+    double value = 0.0;
+    double error = 0.0;
+};
+ParallelEdges parallel_edges_log_integral(double len_a, double b0, double b1, double h, double log_rho);
 
 // a[0..na) and b[0..nb): planar, convex, counter-clockwise about their front normals, at most
 // 8 vertices each. Zero when either lies wholly behind or in the other's plane. `abs_tol`: the
