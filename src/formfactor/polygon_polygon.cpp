@@ -160,19 +160,24 @@ double log_integral_bound(const Vec3& a0, const Vec3& da, const Vec3& b0, const 
 // cancel more than the rule's between a tiny patch and a large one).
 PolygonPair edge_pair_term(const Vec3& ak, const Vec3& dk, double lk, const Vec3& bl, const Vec3& dl,
                            double ll, double log_rho, double pair_tol) {
-    const double c = glm::dot(dk / lk, dl / ll);
+    const Vec3 uk = dk / lk, ul = dl / ll;
+    const double c = glm::dot(uk, ul);
     if (c == 0.0) return PolygonPair{};
-    if (pair_tol > 0.0 && std::abs(c) <= kParallelSine) {
-        const double bound = std::abs(c) * log_integral_bound(ak, dk, bl, dl, log_rho);
-        if (bound <= pair_tol) return PolygonPair{0.0, bound, 0};
+    auto weighted = [c](const PolygonPair& p) {
+        return PolygonPair{c * p.value, std::abs(c) * p.error, p.evaluations};
+    };
+    if (pair_tol > 0.0) {
+        if (std::abs(c) <= kParallelSine) {
+            const double bound = std::abs(c) * log_integral_bound(ak, dk, bl, dl, log_rho);
+            if (bound <= pair_tol) return PolygonPair{0.0, bound, 0};
+        }
+        const double sine = glm::length(glm::cross(uk, ul));
+        if (sine <= kParallelSine) {
+            const PolygonPair p = parallel_pair(ak, uk, lk, bl, ul, ll, sine, log_rho);
+            if (p.error <= pair_tol) return weighted(p);
+        }
     }
-    const double sine = glm::length(glm::cross(dk / lk, dl / ll));
-    PolygonPair p;
-    if (pair_tol > 0.0 && sine <= kParallelSine)
-        p = parallel_pair(ak, dk / lk, lk, bl, dl / ll, ll, sine, log_rho);
-    if (!(pair_tol > 0.0 && sine <= kParallelSine && p.error <= pair_tol))
-        p = integrate_edge_pair(ak, dk / lk, lk, Edge{bl, dl / ll, ll}, log_rho, pair_tol);
-    return PolygonPair{c * p.value, std::abs(c) * p.error, p.evaluations};
+    return weighted(integrate_edge_pair(ak, uk, lk, Edge{bl, ul, ll}, log_rho, pair_tol));
 }
 
 }  // namespace
@@ -220,8 +225,7 @@ PolygonPair polygon_to_polygon(const Vec3* a, int na, const Vec3* b, int nb, dou
             const Vec3 bl = cbp.v[l], dl = cbp.v[(l + 1) % cbp.n] - bl;
             const double ll = glm::length(dl);
             if (!(ll > 0.0)) continue;
-            const PolygonPair p =
-                edge_pair_term(ak, dk, lk, bl, dl, ll, log_rho, abs_tol > 0.0 ? pair_tol : 0.0);
+            const PolygonPair p = edge_pair_term(ak, dk, lk, bl, dl, ll, log_rho, pair_tol);
             sum += p.value;
             err += p.error;
             out.evaluations += p.evaluations;
