@@ -111,7 +111,7 @@ std::string describe(const FormFactorOptions& o);
 // older builds are recomputed rather than trusted (it is part of the cache key).
 inline constexpr int kFormFactorAlgorithmVersion = 19;
 // The same for the hierarchy's links (formfactor/hierarchy.h), in their cache key.
-inline constexpr int kHierarchyAlgorithmVersion = 13;
+inline constexpr int kHierarchyAlgorithmVersion = 14;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included

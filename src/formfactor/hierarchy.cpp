@@ -14,6 +14,8 @@
 #include "formfactor/cubature.h"
 #include "formfactor/culling.h"
 #include "formfactor/hierarchy_nodes.h"
+#include "formfactor/point_polygon.h"
+#include "util/convex_distance.h"
 #include "util/stopwatch.h"
 
 namespace radiosa {
@@ -41,9 +43,14 @@ double facing_kernel(const Sample& x, const Sample& y, Vec3* e) {
 struct LinearFit {
     double gs = 0.0, gt = 0.0;
     double residual_spread = 0.0;
-    double ms = 0.0, mt = 0.0;  // sum_a w_a F_a (u_a - u_mean), and along v
+    double ms = 0.0, mt = 0.0;            // sum_a w_a F_a (u_a - u_mean), and along v
+    double um = 0.0, vm = 0.0, fm = 0.0;  // the weighted means of u, v and F
+    double residual(const Sample& x, double f) const { return f - fm - gs * (x.u - um) - gt * (x.v - vm); }
 };
-LinearFit fit_plane(const Sample* xs, const std::vector<double>& F) {
+// With `more`, the spread is also taken at those points (values *more_F), which the plane does
+// not go through.
+LinearFit fit_plane(const Sample* xs, const std::vector<double>& F, const Sample* more = nullptr,
+                    const std::vector<double>* more_F = nullptr) {
     double w = 0.0, wu = 0.0, wv = 0.0, wf = 0.0;
     for (std::size_t a = 0; a < F.size(); ++a) {
         w += xs[a].w;
@@ -54,6 +61,9 @@ LinearFit fit_plane(const Sample* xs, const std::vector<double>& F) {
     LinearFit fit;
     if (!(w > 0.0)) return fit;
     const double um = wu / w, vm = wv / w, fm = wf / w;
+    fit.um = um;
+    fit.vm = vm;
+    fit.fm = fm;
     double suu = 0.0, svv = 0.0, suf = 0.0, svf = 0.0;
     for (std::size_t a = 0; a < F.size(); ++a) {
         const double du = xs[a].u - um, dv = xs[a].v - vm, df = F[a] - fm;
@@ -68,9 +78,13 @@ LinearFit fit_plane(const Sample* xs, const std::vector<double>& F) {
     fit.gt = svv > 0.0 ? svf / svv : 0.0;
     double lo = 0.0, hi = 0.0;
     for (std::size_t a = 0; a < F.size(); ++a) {
-        const double r = F[a] - fm - fit.gs * (xs[a].u - um) - fit.gt * (xs[a].v - vm);
+        const double r = fit.residual(xs[a], F[a]);
         lo = a == 0 ? r : std::min(lo, r);
         hi = a == 0 ? r : std::max(hi, r);
+    }
+    for (std::size_t a = 0; more && a < more_F->size(); ++a) {
+        lo = std::min(lo, fit.residual(more[a], (*more_F)[a]));
+        hi = std::max(hi, fit.residual(more[a], (*more_F)[a]));
     }
     fit.residual_spread = hi - lo;
     return fit;
@@ -295,6 +309,11 @@ private:
         const Vec3 e = b.center - a.center;
         const double l2 = glm::dot(e, e);
         const Rect rp = node_rect(m_g, node(p)), rq = node_rect(m_g, node(q));
+        std::optional<std::array<Vec3, 8>> corners;
+        if (const auto cp = flat_corners(p))
+            if (const auto cq = flat_corners(q))
+                corners = std::array<Vec3, 8>{(*cp)[0], (*cp)[1], (*cp)[2], (*cp)[3],
+                                              (*cq)[0], (*cq)[1], (*cq)[2], (*cq)[3]};
         std::vector<int> out;
         for (int k = 0; k < m_g.surface_count(); ++k) {
             bool own = false;
@@ -311,7 +330,15 @@ private:
             const Vec3 oc = s.center - a.center;
             const double t = l2 > 0.0 ? std::clamp(glm::dot(oc, e) / l2, 0.0, 1.0) : 0.0;
             const double reach = s.radius + std::max(a.radius, b.radius) + m_eps;
-            if (glm::length(oc - t * e) <= reach) out.push_back(k);
+            if (!(glm::length(oc - t * e) <= reach)) continue;
+            // Two flat nodes: every segment between them lies in the hull of their corners.
+            if (corners) {
+                const Vec3 centre = s.center;
+                if (convex_distance(*corners, std::span<const Vec3>(&centre, 1), s.radius + m_eps) >
+                    s.radius + m_eps)
+                    continue;
+            }
+            out.push_back(k);
         }
         return out;
     }
@@ -332,10 +359,12 @@ private:
         // Some sample pairs face each other and some do not: a horizon crosses the pair and
         // the kernel's clipped cosines are not smooth there, so samples say little.
         bool horizon = false;
+        int lone_blocker = -1;  // the one surface that may come between the nodes, if one
     };
     Coupling sample(int p, int q) const {
         const std::size_t mm = static_cast<std::size_t>(m_m * m_m);
-        const BlockerSet guard(m_g, m_leaf.visibility ? blockers(p, q) : std::vector<int>{});
+        const std::vector<int> near = m_leaf.visibility ? blockers(p, q) : std::vector<int>{};
+        const BlockerSet guard(m_g, near);
         const Sample* xs = &m_samples[static_cast<std::size_t>(p) * mm];
         const Sample* ys = &m_samples[static_cast<std::size_t>(q) * mm];
         std::vector<double> to_q(mm, 0.0), to_p(mm, 0.0);      // sum_b w_b K(x_a, y_b), sum_a w_a K
@@ -366,6 +395,77 @@ private:
         c.open_q = *std::max_element(open_p.begin(), open_p.end());
         if (c.any) c.quadrature = std::abs(c.g - coarse_coupling(p, q, guard, &tests));
         m_kernel_samples += static_cast<long long>(mm * mm);
+        if (near.size() == 1) c.lone_blocker = near[0];
+        return c;
+    }
+
+    // The planes through the m x m points, checked at the (m - 1) x (m - 1) points between them too.
+    LinearFit checked_fit(int n, const std::vector<double>& fine, const std::vector<double>& coarse) const {
+        const std::size_t mm = static_cast<std::size_t>(m_m * m_m),
+                          cm = static_cast<std::size_t>((m_m - 1) * (m_m - 1));
+        const Sample* xs = &m_samples[static_cast<std::size_t>(n) * mm];
+        return fit_plane(xs, fine, &m_coarse[static_cast<std::size_t>(n) * cm], &coarse);
+    }
+
+    // The front polygon of a flat node.
+    std::array<Vec3, 4> front_corners(int n) const {
+        std::array<Vec3, 4> v = *flat_corners(n);
+        const Rect r = node_rect(m_g, node(n));
+        const Vec3 front = m_g.surface(node(n).surface).normal(0.5 * (r.s0 + r.s1), 0.5 * (r.t0 + r.t1));
+        if (glm::dot(front, glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2])) <
+            0.0)
+            std::swap(v[1], v[3]);
+        return v;
+    }
+
+    // Two flat nodes, each wholly in front of the other's plane, that only a ball (an outward
+    // whole sphere, in front of both planes) can come between: its shadow's outline may pass
+    // between the kernel's samples (at 2,700 patches 0.5 % of such links were off by up to 7.4
+    // times their estimates), but F(x -> node) past a ball has a closed form
+    // (point_to_polygon), so the point-to-node factors are exact at each side's samples. The
+    // coupling is the mean of the two sides' m x m outer Gauss rules; its quadrature estimate
+    // their difference plus the larger of each one's against its (m - 1) x (m - 1) rule, and
+    // each plane is checked at those (m - 1) x (m - 1) points too. (Two nodes that meet, whose
+    // kernel is singular where they do, are left to the samples.) nullopt when the pair is not
+    // of that kind.
+    std::optional<Coupling> shadowed_flats(int p, int q, int k) const {
+        const Surface& sk = m_g.surface(k);
+        if (!sk.whole_sphere() || sk.sees_itself() || !flat_corners(p) || !flat_corners(q))
+            return std::nullopt;
+        const BoundingSphere ball = *sk.sphere();
+        for (const auto& [x, y] : {std::pair{p, q}, std::pair{q, p}}) {
+            const auto pl = m_g.surface(node(x).surface).plane();
+            if (!pl || !(pl->signed_distance(ball.center) > ball.radius + m_eps)) return std::nullopt;
+            const Rect r = node_rect(m_g, node(y));
+            if (m_g.surface(node(y).surface).linear_range(pl->normal, r.s0, r.s1, r.t0, r.t1).first <
+                pl->offset)
+                return std::nullopt;
+        }
+        const std::array<Vec3, 4> vp = front_corners(p), vq = front_corners(q);
+        // sum_a w_a F(x_a -> the other node) over the n x n samples of node `from`.
+        const auto rule = [&](const std::vector<Sample>& set, int n, int from, std::vector<double>* values) {
+            const std::size_t count = static_cast<std::size_t>(n * n);
+            const Sample* xs = &set[static_cast<std::size_t>(from) * count];
+            const std::array<Vec3, 4>& v = from == p ? vq : vp;
+            values->assign(count, 0.0);
+            double g = 0.0;
+            for (std::size_t a = 0; a < count; ++a) {
+                (*values)[a] = point_to_polygon(xs[a].x, xs[a].n, v.data(), 4, &ball);
+                g += xs[a].w * (*values)[a];
+            }
+            return g;
+        };
+        std::vector<double> to_q, to_p, coarse_q, coarse_p;
+        const double gp = rule(m_samples, m_m, p, &to_q), gq = rule(m_samples, m_m, q, &to_p);
+        const double cp = rule(m_coarse, m_m - 1, p, &coarse_q), cq = rule(m_coarse, m_m - 1, q, &coarse_p);
+        Coupling c;
+        c.g = 0.5 * (gp + gq);
+        c.quadrature = std::abs(gp - gq) + std::max(std::abs(gp - cp), std::abs(gq - cq));
+        c.fit_p = checked_fit(p, to_q, coarse_q);
+        c.fit_q = checked_fit(q, to_p, coarse_p);
+        c.open_p = *std::max_element(to_q.begin(), to_q.end());
+        c.open_q = *std::max_element(to_p.begin(), to_p.end());
+        c.any = c.g > 0.0;
         return c;
     }
 
@@ -395,6 +495,32 @@ private:
         m_progress(p == q ? a * (a + 1) / 2 : a * b);
     }
 
+    // A link's estimates both ways from a coupling, and whether they meet the tolerances.
+    struct Judgement {
+        double rp = 0.0, rq = 0.0;  // the receivers' misfits (none for a patch)
+        double e_pq = 0.0, e_qp = 0.0;
+        Slopes k_pq, k_qp;
+        bool fits = false, receivers_fit = false;
+    };
+    Judgement judge(const HierarchyNode& a, const HierarchyNode& b, const Coupling& c) const {
+        Judgement j;
+        // The error of p's gather over the link, per unit of radiosity: each side's plane carries
+        // its slopes (the receiver's, and the source's against its radiosity slopes), so what the
+        // planes leave is the estimate: the receiver's residual (none when p is one patch), the
+        // source's per unit area of p (none when q is one patch), and the quadrature's.
+        j.rp = a.leaf() ? 0.0 : c.fit_p.residual_spread;
+        j.rq = b.leaf() ? 0.0 : c.fit_q.residual_spread;
+        // The slopes are stored in single precision, and their rounding counts too.
+        j.k_pq = slopes(a, c.fit_p, b, c.fit_q);
+        j.k_qp = slopes(b, c.fit_q, a, c.fit_p);
+        j.e_pq = j.rp + (j.rq * b.area + c.quadrature) / a.area + j.k_pq.rounding;
+        j.e_qp = j.rq + (j.rp * a.area + c.quadrature) / b.area + j.k_qp.rounding;
+        // With a receiver tolerance, each side's misfit as a receiver is held to it too.
+        j.receivers_fit = !(m_o.receiver_tolerance > 0.0) || std::max(j.rp, j.rq) <= m_o.receiver_tolerance;
+        j.fits = c.any && !c.horizon && std::max(j.e_pq, j.e_qp) <= m_o.tolerance;
+        return j;
+    }
+
     void refine(int p, int q) {
         ++m_node_pairs;
         const HierarchyNode& a = node(p);
@@ -412,24 +538,20 @@ private:
             ++m_dropped;
             return done(p, q);
         }
-        const Coupling c = sample(p, q);
-        // The error of p's gather over the link, per unit of radiosity: each side's plane carries
-        // its slopes (the receiver's, and the source's against its radiosity slopes), so what the
-        // planes leave is the estimate: the receiver's residual (none when p is one patch), the
-        // source's per unit area of p (none when q is one patch), and the quadrature's.
-        const double rp = a.leaf() ? 0.0 : c.fit_p.residual_spread;
-        const double rq = b.leaf() ? 0.0 : c.fit_q.residual_spread;
-        // The slopes are stored in single precision, and their rounding counts too.
-        const Slopes k_pq = slopes(a, c.fit_p, b, c.fit_q), k_qp = slopes(b, c.fit_q, a, c.fit_p);
-        const double e_pq = rp + (rq * b.area + c.quadrature) / a.area + k_pq.rounding;
-        const double e_qp = rq + (rp * a.area + c.quadrature) / b.area + k_qp.rounding;
-        // With a receiver tolerance, each side's misfit as a receiver is held to it too.
-        const bool receivers_fit =
-            !(m_o.receiver_tolerance > 0.0) || std::max(rp, rq) <= m_o.receiver_tolerance;
-        const bool fits = c.any && !c.horizon && std::max(e_pq, e_qp) <= m_o.tolerance;
-        if (fits && receivers_fit) {
-            add(p, q, c.g / a.area, e_pq, k_pq);
-            add(q, p, c.g / b.area, e_qp, k_qp);
+        Coupling c = sample(p, q);
+        Judgement j = judge(a, b, c);
+        // A link between flat nodes that only a ball can come between is made only if the
+        // exact point-to-node factors (shadowed_flats) meet the tolerances too, and from them.
+        if (j.fits && j.receivers_fit && c.lone_blocker >= 0)
+            if (const auto exact = shadowed_flats(p, q, c.lone_blocker)) {
+                c = *exact;
+                j = judge(a, b, c);
+            }
+        const bool fits = j.fits;
+        const double rp = j.rp, rq = j.rq;
+        if (fits && j.receivers_fit) {
+            add(p, q, c.g / a.area, j.e_pq, j.k_pq);
+            add(q, p, c.g / b.area, j.e_qp, j.k_qp);
             return done(p, q);
         }
         // Every sample pair hidden: a zero coupling whose estimate is what the open view

@@ -18,7 +18,11 @@
 // error (|3 x 3 - 2 x 2 points| / A_p). Both directions' estimates must be within the tolerance.
 // The criterion is independent of the emission and the reflectance (the links stay valid when
 // lights and colours change) and counts partial visibility (hidden samples lower some
-// factors). It estimates, and does not bound, the error. A pair that a horizon crosses (some
+// factors). It estimates, and does not bound, the error. A ball's shadow can fall between the
+// samples, so a link between two flat nodes that only a ball can come between (an outward whole
+// sphere; any other surface proven clear of the hull of the two nodes' corners) is made only if
+// the point-to-node factors past the ball, exact at the same samples (point_to_polygon), meet
+// the tolerance too, and from them. A pair that a horizon crosses (some
 // sample pairs face each other, some do not) is never linked: the clipped cosines are not smooth
 // there. Otherwise the larger node is split. Two leaves take the dense path's error-controlled
 // pair (FormFactorRows::pair), closed forms included. A pair with no visible sample is dropped
