@@ -66,6 +66,13 @@ std::vector<fs::path> files_under(const fs::path& dir) {
     return v;
 }
 
+// The files' names, one per line: what a failed check shows.
+std::string listing(const std::vector<fs::path>& files) {
+    std::string out;
+    for (const fs::path& f : files) out += f.filename().string() + "\n";
+    return out;
+}
+
 // `frames` frames at 24 fps of test::write_short_sequence.
 fs::path write_sequence(const fs::path& dir, int frames) {
     return test::write_short_sequence(dir, 24, frames / 24.0);
@@ -176,12 +183,14 @@ TEST(Mpi, KilledRankLeavesNothingPartial) {
                                 " --ff-tolerance 1e-9 --threads 1 -q -m " + (out / "F.npy").string() +
                                 " --report " + (out / "r.json").string() + " --cache-dir " + cache.string() +
                                 " 2> " + (d / "err1.txt").string();
-        std::thread killer(
-            [&] { EXPECT_TRUE(kill_rank_when(marker, 2, [&] { return has(cache, "\\.lock$"); })); });
-        EXPECT_NE(shell(job), 0);
+        std::thread killer([&] {
+            EXPECT_TRUE(kill_rank_when(marker, 2, [&] { return has(cache, "\\.lock$"); }))
+                << "rank 2 not killed: no lock seen, or not exactly one such process";
+        });
+        EXPECT_NE(shell(job), 0) << read_text(d / "err1.txt");
         killer.join();
-        EXPECT_TRUE(files_under(out).empty());
-        EXPECT_TRUE(but_locks(files_under(cache)).empty());
+        EXPECT_EQ(listing(files_under(out)), "") << read_text(d / "err1.txt");
+        EXPECT_EQ(listing(but_locks(files_under(cache))), "") << read_text(d / "err1.txt");
     }
     {  // while writing frames (the matrix cached first, by one process)
         const fs::path seq = write_sequence(d, 240);
@@ -190,12 +199,15 @@ TEST(Mpi, KilledRankLeavesNothingPartial) {
                                 " --width 320 --height 240 --threads 1 -q -o " + (out / "v.mp4").string() +
                                 " --report " + (out / "r.json").string() + " --cache-dir " + cache.string() +
                                 " 2> " + (d / "err2.txt").string();
-        std::thread killer(
-            [&] { EXPECT_TRUE(kill_rank_when(marker, 1, [&] { return has(out, "\\.tmp"); })); });
-        EXPECT_NE(shell(job), 0);
+        std::thread killer([&] {
+            EXPECT_TRUE(kill_rank_when(marker, 1, [&] { return has(out, "\\.tmp"); }))
+                << "rank 1 not killed: no temporary seen, or not exactly one such process";
+        });
+        EXPECT_NE(shell(job), 0) << read_text(d / "err2.txt");
         killer.join();
-        EXPECT_TRUE(files_under(out).empty());
-        EXPECT_EQ(but_locks(files_under(cache)).size(), 1u);  // the complete matrix from before, nothing else
+        EXPECT_EQ(listing(files_under(out)), "") << read_text(d / "err2.txt");
+        // The complete matrix from before, nothing else.
+        EXPECT_EQ(but_locks(files_under(cache)).size(), 1u) << listing(files_under(cache));
     }
     fs::remove_all(d);
 }
