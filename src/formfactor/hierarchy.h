@@ -20,7 +20,7 @@
 // lights and colours change) and counts partial visibility (hidden samples lower some
 // factors). It estimates, and does not bound, the error. A ball's shadow can fall between the
 // samples, so a link between two flat nodes that only a ball can come between (an outward whole
-// sphere; any other surface proven clear of the hull of the two nodes' corners) is made only if
+// sphere; every other surface proven not to, some by the hull of the nodes' corners) is made only if
 // the point-to-node factors past the ball, exact at the same samples (point_to_polygon), meet
 // the tolerance too, and from them. A pair that a horizon crosses (some
 // sample pairs face each other, some do not) is never linked: the clipped cosines are not smooth
