@@ -332,12 +332,9 @@ private:
             const double reach = s.radius + std::max(a.radius, b.radius) + m_eps;
             if (!(glm::length(oc - t * e) <= reach)) continue;
             // Two flat nodes: every segment between them lies in the hull of their corners.
-            if (corners) {
-                const Vec3 centre = s.center;
-                if (convex_distance(*corners, std::span<const Vec3>(&centre, 1), s.radius + m_eps) >
-                    s.radius + m_eps)
-                    continue;
-            }
+            if (corners && convex_distance(*corners, std::span<const Vec3>(&s.center, 1), s.radius + m_eps) >
+                               s.radius + m_eps)
+                continue;
             out.push_back(k);
         }
         return out;
@@ -407,15 +404,13 @@ private:
         return fit_plane(xs, fine, &m_coarse[static_cast<std::size_t>(n) * cm], &coarse);
     }
 
-    // The front polygon of a flat node.
-    std::array<Vec3, 4> front_corners(int n) const {
-        std::array<Vec3, 4> v = *flat_corners(n);
+    // The corners of a flat node, counter-clockwise about its front normal.
+    std::optional<std::array<Vec3, 4>> front_corners(int n) const {
+        const auto v = flat_corners(n);
+        if (!v) return std::nullopt;
         const Rect r = node_rect(m_g, node(n));
-        const Vec3 front = m_g.surface(node(n).surface).normal(0.5 * (r.s0 + r.s1), 0.5 * (r.t0 + r.t1));
-        if (glm::dot(front, glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2])) <
-            0.0)
-            std::swap(v[1], v[3]);
-        return v;
+        return SceneGeometry::facing(
+            *v, m_g.surface(node(n).surface).normal(0.5 * (r.s0 + r.s1), 0.5 * (r.t0 + r.t1)));
     }
 
     // Two flat nodes, each wholly in front of the other's plane, that only a ball (an outward
@@ -430,8 +425,9 @@ private:
     // of that kind.
     std::optional<Coupling> shadowed_flats(int p, int q, int k) const {
         const Surface& sk = m_g.surface(k);
-        if (!sk.whole_sphere() || sk.sees_itself() || !flat_corners(p) || !flat_corners(q))
-            return std::nullopt;
+        if (!sk.whole_sphere() || sk.sees_itself()) return std::nullopt;
+        const auto vp = front_corners(p), vq = front_corners(q);
+        if (!vp || !vq) return std::nullopt;
         const BoundingSphere ball = *sk.sphere();
         for (const auto& [x, y] : {std::pair{p, q}, std::pair{q, p}}) {
             const auto pl = m_g.surface(node(x).surface).plane();
@@ -441,12 +437,11 @@ private:
                 pl->offset)
                 return std::nullopt;
         }
-        const std::array<Vec3, 4> vp = front_corners(p), vq = front_corners(q);
         // sum_a w_a F(x_a -> the other node) over the n x n samples of node `from`.
         const auto rule = [&](const std::vector<Sample>& set, int n, int from, std::vector<double>* values) {
             const std::size_t count = static_cast<std::size_t>(n * n);
             const Sample* xs = &set[static_cast<std::size_t>(from) * count];
-            const std::array<Vec3, 4>& v = from == p ? vq : vp;
+            const std::array<Vec3, 4>& v = from == p ? *vq : *vp;
             values->assign(count, 0.0);
             double g = 0.0;
             for (std::size_t a = 0; a < count; ++a) {
@@ -547,9 +542,7 @@ private:
                 c = *exact;
                 j = judge(a, b, c);
             }
-        const bool fits = j.fits;
-        const double rp = j.rp, rq = j.rq;
-        if (fits && j.receivers_fit) {
+        if (j.fits && j.receivers_fit) {
             add(p, q, c.g / a.area, j.e_pq, j.k_pq);
             add(q, p, c.g / b.area, j.e_qp, j.k_qp);
             return done(p, q);
@@ -565,7 +558,7 @@ private:
         }
         // Split the larger node (a leaf is never split); or, when only a receiver's misfit is
         // over the receiver tolerance, the node with the larger misfit.
-        const bool split_a = !a.leaf() && (b.leaf() || (fits ? rp >= rq : a.area >= b.area));
+        const bool split_a = !a.leaf() && (b.leaf() || (j.fits ? j.rp >= j.rq : a.area >= b.area));
         const HierarchyNode& s = split_a ? a : b;
         const int other = split_a ? q : p, c0 = s.child[0], c1 = s.child[1];
         both(

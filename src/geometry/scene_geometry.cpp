@@ -50,8 +50,10 @@ SceneGeometry::SceneGeometry(const Scene& scene) : m_index(std::make_shared<Lazy
 
 std::array<Vec3, 4> SceneGeometry::front_polygon(int patch) const {
     const Patch& p = m_patches[patch];
-    std::array<Vec3, 4> v = p.corners;
-    const Vec3 front = m_surfaces[p.surface]->normal(0.5 * (p.s0 + p.s1), 0.5 * (p.t0 + p.t1));
+    return facing(p.corners, m_surfaces[p.surface]->normal(0.5 * (p.s0 + p.s1), 0.5 * (p.t0 + p.t1)));
+}
+
+std::array<Vec3, 4> SceneGeometry::facing(std::array<Vec3, 4> v, const Vec3& front) {
     const Vec3 newell = glm::cross(v[1] - v[0], v[3] - v[0]) + glm::cross(v[3] - v[2], v[1] - v[2]);
     if (glm::dot(front, newell) < 0.0) std::swap(v[1], v[3]);
     return v;

@@ -73,6 +73,9 @@ public:
     std::optional<Hit> intersect_front_by_loop(const Ray& ray) const;
     // A polygon patch's corners, counter-clockwise about its front normal.
     std::array<Vec3, 4> front_polygon(int patch) const;
+    // Four corners of a flat piece of a surface, reordered if need be to run counter-clockwise
+    // about `front` (its front normal), as front_polygon orders a patch's.
+    static std::array<Vec3, 4> facing(std::array<Vec3, 4> v, const Vec3& front);
     // "surface[is,it]": how reports, exports and messages name a patch.
     std::string patch_label(int patch) const;
     // Maps surface parameters to the patch that owns them and the local (u, v).
