@@ -179,7 +179,7 @@ Estimate area_times_f_contour(const SceneGeometry& g, int i, int j, const Contou
         return da * v.value;
     };
     const Rect root{pi.s0, pi.s1, pi.t0, pi.t1};
-    auto quarters = [&](const Rect& r, double) { return quarter_of(root, r); };
+    auto quarters = [&](const Rect& r, const auto&) { return quarter_of(root, r); };
     const double region_tol = tol * std::min(pi.area, pj.area);
     std::vector<Rect> leaves;
     Estimate e = adaptive_rect(gx, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.9 * region_tol, max_regions, outer,

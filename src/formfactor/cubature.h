@@ -80,7 +80,8 @@ struct Estimate {
 // is followed by thin strips, not by squares. `geometric(r, fine)` may demand a split direction
 // (0 or 1) regardless of the estimate, when the region is large compared to its distance from a
 // near-singularity that no Gauss node of it would see, or when geometry proves a feature inside
-// it that its nodes (whose sum is `fine`) all missed; -1 otherwise. Regions are split until
+// it that its nodes (whose sum `fine()` gives, computed only if asked for) all missed; -1
+// otherwise. Regions are split until
 // no split is demanded and the estimates sum to at most `tol`, or `max_regions` is reached.
 // Nested-rule estimates can be fooled where the integrand is only once differentiable (a
 // shadow's edge sweeping across a patch, a hair-thin gap); measured on the configurations of
@@ -139,9 +140,27 @@ struct Region {
     int dir;
     double at;
     bool forced;
+    double coarse;  // its p x p value; NaN until needed (a forced root's)
     double fine, err;
     double kink;  // the part of err that is a kink's largest share, not yet measured
     double key() const { return forced ? std::numeric_limits<double>::infinity() : err; }
+};
+
+// A value computed when first asked for: the sum over a region's halves along s, which a
+// geometric rule may need (Geo's `fine`) and a rule that demands a cut from geometry alone
+// never pays for.
+template <class F>
+class Lazy {
+public:
+    explicit Lazy(const F& f) : m_f(f) {}
+    double operator()() const {
+        if (!m_value) m_value = m_f();
+        return *m_value;
+    }
+
+private:
+    const F& m_f;
+    mutable std::optional<double> m_value;
 };
 
 // How adaptive_rect makes its regions, and checks the ones geometry puts an event in.
@@ -172,43 +191,81 @@ public:
         }
     }
 
-    // A region from its coarse value (known from its parent's split).
+    // A region from its coarse value (known from its parent's split; NaN for the root, whose
+    // value a forced cut does not need).
     Region make(const Rect& r, double coarse) const {
-        Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, 0.0, 0.0, 0.0};
-        std::array<std::array<double, 2>, 2> h;
-        std::array<double, 2> e;
-        for (int d = 0; d < 2; ++d) {
-            const auto hv = r.halves(d);
-            h[d] = {gauss(hv[0]), gauss(hv[1])};
-            e[d] = std::abs(h[d][0] + h[d][1] - coarse);
-        }
-        const Cut forced = as_cut(m_geometric(r, h[0][0] + h[0][1]));
+        Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, coarse, 0.0, 0.0, 0.0};
+        std::array<std::optional<std::array<double, 2>>, 2> h;
+        auto halves = [&](int d) -> const std::array<double, 2>& {
+            if (!h[d]) {
+                const auto hv = r.halves(d);
+                h[d] = {gauss(hv[0]), gauss(hv[1])};
+            }
+            return *h[d];
+        };
+        auto s_halves = [&] { return halves(0)[0] + halves(0)[1]; };
+        const Cut forced = as_cut(m_geometric(r, Lazy(s_halves)));
         const bool bounded = !std::isnan(forced.bound);
         reg.forced = forced.dir >= 0 && !bounded;
-        reg.dir = forced.dir >= 0 ? forced.dir : (e[1] > e[0] ? 1 : 0);
-        reg.half = h[reg.dir];
-        if (reg.forced && !std::isnan(forced.at)) {
-            // A cut along a known feature (an event line): the parts either side of it.
+        if (reg.forced) {
+            // Split whatever its estimate: only the parts it splits into are needed now, and its
+            // estimate waits until it is left whole (at the cap, complete()), which gives the
+            // same values and estimates for a third of the work.
+            reg.dir = forced.dir;
             reg.at = forced.at;
-            const auto parts = r.cut(reg.dir, reg.at);
-            reg.half = {gauss(parts[0]), gauss(parts[1])};
+            if (std::isnan(forced.at)) {
+                reg.half = halves(reg.dir);
+            } else {  // a cut along a known feature (an event line): the parts either side of it
+                const auto parts = r.cut(reg.dir, reg.at);
+                reg.half = {gauss(parts[0]), gauss(parts[1])};
+            }
+            reg.fine = reg.half[0] + reg.half[1];
+            return reg;
         }
+        const std::array<double, 2> e = differences(reg, halves);
+        reg.dir = forced.dir >= 0 ? forced.dir : (e[1] > e[0] ? 1 : 0);
+        reg.half = halves(reg.dir);
         reg.fine = reg.half[0] + reg.half[1];
-        // Never claim more than round-off allows: rules that happen to agree exactly still
-        // carry the rounding of their sums.
-        reg.err = kSafety * (e[0] + e[1]) + 64 * std::numeric_limits<double>::epsilon() * std::abs(reg.fine);
-        // A region that geometry forces to split is split whatever its estimate: its check waits
-        // until it is left whole (at the cap), which gives the same estimates for less work. A
-        // region with a proven bound needs no check: its value lies in [0, bound], so
+        estimate(reg, e);
+        // A region with a proven bound needs no check: its value lies in [0, bound], so
         // |value - fine| <= max(bound, |fine|).
         if (bounded)
             reg.err = std::max({reg.err, forced.bound, std::abs(reg.fine)});
-        else if (!reg.forced)
+        else
             check(reg);
         return reg;
     }
 
+    // A forced region left whole at the cap: its estimate and check, as make() gives them to a
+    // region it does not force.
+    void complete(Region& reg) const {
+        auto halves = [&](int d) {
+            const auto hv = reg.r.halves(d);
+            return std::array<double, 2>{gauss(hv[0]), gauss(hv[1])};
+        };
+        estimate(reg, differences(reg, halves));
+        check(reg);
+    }
+
 private:
+    // How far the halves along s and along t are from the region's coarse value.
+    template <class Halves>
+    std::array<double, 2> differences(Region& reg, Halves&& halves) const {
+        if (std::isnan(reg.coarse)) reg.coarse = gauss(reg.r);
+        std::array<double, 2> e;
+        for (int d = 0; d < 2; ++d) {
+            const std::array<double, 2> h = halves(d);
+            e[d] = std::abs(h[0] + h[1] - reg.coarse);
+        }
+        return e;
+    }
+
+    // Never claim more than round-off allows: rules that happen to agree exactly still carry the
+    // rounding of their sums.
+    static void estimate(Region& reg, const std::array<double, 2>& e) {
+        reg.err = kSafety * (e[0] + e[1]) + 64 * std::numeric_limits<double>::epsilon() * std::abs(reg.fine);
+    }
+
     const G& m_g;
     const GaussRule& m_rule;
     const Geo& m_geometric;
@@ -224,7 +281,7 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
     using detail::Region;
     const detail::RegionRules<G, Geo, Sus> rules(g, rule, geometric, suspect);
     auto lower = [](const Region& a, const Region& b) { return a.key() < b.key(); };
-    std::vector<Region> heap{rules.make(root, rules.gauss(root))};
+    std::vector<Region> heap{rules.make(root, std::numeric_limits<double>::quiet_NaN())};
     double err = heap[0].err, value = heap[0].fine;
     // The value when half the regions had been spent: if the cap stops the refinement, how much
     // the value still moved over the second half bounds the error from below, where the
@@ -255,7 +312,7 @@ Estimate adaptive_rect(const G& g, const Rect& root, double tol, int max_regions
         }
     }
     for (Region& r : heap)
-        if (r.forced) rules.check(r);
+        if (r.forced) rules.complete(r);
     Estimate e;
     for (const Region& r : heap) {
         e.value += r.fine;

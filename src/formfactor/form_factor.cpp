@@ -231,7 +231,7 @@ public:
         };
         Estimate e =
             adaptive_rect(g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.5 * tol * std::min(pi.area, pj.area),
-                          kMaxNumericRegions, m_outer, [](const Rect&, double) { return -1; });
+                          kMaxNumericRegions, m_outer, [](const Rect&, const auto&) { return -1; });
         e.error += inner_err * pi.area;
         st->segment_tests += tests;
         return e;

@@ -121,7 +121,8 @@ public:
         for (const FlatDisk& rim : shadow.openings) m_events.add_disk(v, rim);
     }
 
-    Cut cut(const Rect& r, double fine) const {
+    template <class Fine>
+    Cut cut(const Rect& r, const Fine& fine) const {
         // A shadow's edge makes the integrand only once differentiable where it sweeps
         // across the patch; nested estimates on the whole patch can miss that, so shadowed
         // pairs start from quarters.
@@ -141,7 +142,7 @@ public:
         // is then refined like any other, by its share of the error, and the search ends
         // when the bounds are small enough instead of at the cap. Nor under a disk's shadow
         // or through a tube's or a cap's open ends, for the same reason.
-        if (fine == 0.0 && m_shadow.spheres.empty() && !m_shadow.disk && !m_ends && !m_events.empty() &&
+        if (fine() == 0.0 && m_shadow.spheres.empty() && !m_shadow.disk && !m_ends && !m_events.empty() &&
             m_events.crosses(m_si, r)) {
             const double ls = glm::length(m_si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
                                           m_si.point(r.s0, 0.5 * (r.t0 + r.t1))),
@@ -218,7 +219,7 @@ public:
         const double region_tol = tol * std::min(pi.area, m_geo.patch(j).area);
         return adaptive_rect(
             g, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, region_tol, m_max_regions, m_outer,
-            [&](const Rect& r, double fine) { return refine.cut(r, fine); },
+            [&](const Rect& r, const auto& fine) { return refine.cut(r, fine); },
             [&](const Rect& r, double) { return refine.suspect(r); });
     }
 
@@ -286,11 +287,12 @@ public:
         if (shadow.disk) events.add_disk(vj, *shadow.disk);
         if (shadow.column) events.add_column(vj, *shadow.column);
         for (const ShadowOccluder& o : shadow.apart) add_events(&events, vj, o);
-        auto geometric = [&](const Rect& r, double fine) {
+        auto geometric = [&](const Rect& r, const auto& fine) {
             const double ws = (r.s1 - r.s0) / (pi.s1 - pi.s0), wt = (r.t1 - r.t0) / (pi.t1 - pi.t0);
             if (const Cut c = events.cut_along(si, r); c.dir >= 0) return c;
             // No event crossing the region: whether x sees the shadow cannot change inside it.
-            if (fine != 0.0 || std::max(ws, wt) < 1e-6 || !reaches(r) || !events.crosses(si, r)) return Cut{};
+            if (fine() != 0.0 || std::max(ws, wt) < 1e-6 || !reaches(r) || !events.crosses(si, r))
+                return Cut{};
             return Cut{events.split_toward(si, r, ws * s_len >= wt * t_len ? 0 : 1)};
         };
         const double region_tol = pair_tol - open.error;

@@ -185,7 +185,7 @@ Estimate by_cubature(const SceneGeometry& g, const Vec3& x, const Vec3& n, const
         return ci * cj / (kPi * l2 * l2);
     };
     const Rect root{pj.s0, pj.s1, pj.t0, pj.t1};
-    auto quarters = [&](const Rect& r, double) { return quarter_of(root, r); };
+    auto quarters = [&](const Rect& r, const auto&) { return quarter_of(root, r); };
     return adaptive_rect(h, Rect{pj.s0, pj.s1, pj.t0, pj.t1}, tol, 4096, gauss_legendre(4), quarters);
 }
 

@@ -286,7 +286,7 @@ Estimate area_times_f_sphere(const SceneGeometry& g, int i, int j, const SphereR
         return gap - cr.half_angle - cone_j.half_angle < alpha + 1e-9;
     };
     const Rect root{pi.s0, pi.s1, pi.t0, pi.t1};
-    auto quarters = [&](const Rect& r, double) { return quarter_of(root, r); };
+    auto quarters = [&](const Rect& r, const auto&) { return quarter_of(root, r); };
     const double region_tol = tol * std::min(pi.area, pj.area);
     // The outer integral gets nine tenths of the target, the inner integrals' sum the rest.
     Estimate e = adaptive_rect(gx, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.9 * region_tol, max_regions, outer,
