@@ -81,8 +81,8 @@ struct Estimate {
 // (0 or 1) regardless of the estimate, when the region is large compared to its distance from a
 // near-singularity that no Gauss node of it would see, or when geometry proves a feature inside
 // it that its nodes (whose sum `fine()` gives, computed only if asked for) all missed; -1
-// otherwise. Regions are split until
-// no split is demanded and the estimates sum to at most `tol`, or `max_regions` is reached.
+// otherwise. Regions are split until no split is demanded and the estimates sum to at most
+// `tol`, or `max_regions` is reached.
 // Nested-rule estimates can be fooled where the integrand is only once differentiable (a
 // shadow's edge sweeping across a patch, a hair-thin gap); measured on the configurations of
 // `radiosa accuracy`, true errors reached 3x the raw estimate, so estimates are scaled by 4.
@@ -210,7 +210,7 @@ public:
         if (reg.forced) {
             // Split whatever its estimate: only the parts it splits into are needed now, and its
             // estimate waits until it is left whole (at the cap, complete()), which gives the
-            // same values and estimates for a third of the work.
+            // same values and estimates for a third (a cut at `at`) or half of the work.
             reg.dir = forced.dir;
             reg.at = forced.at;
             if (std::isnan(forced.at)) {

@@ -142,7 +142,7 @@ public:
         // is then refined like any other, by its share of the error, and the search ends
         // when the bounds are small enough instead of at the cap. Nor under a disk's shadow
         // or through a tube's or a cap's open ends, for the same reason.
-        if (fine() == 0.0 && m_shadow.spheres.empty() && !m_shadow.disk && !m_ends && !m_events.empty() &&
+        if (m_shadow.spheres.empty() && !m_shadow.disk && !m_ends && !m_events.empty() && fine() == 0.0 &&
             m_events.crosses(m_si, r)) {
             const double ls = glm::length(m_si.point(r.s1, 0.5 * (r.t0 + r.t1)) -
                                           m_si.point(r.s0, 0.5 * (r.t0 + r.t1))),
