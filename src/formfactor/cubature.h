@@ -197,10 +197,7 @@ public:
         Region reg{r, {}, 0, std::numeric_limits<double>::quiet_NaN(), false, coarse, 0.0, 0.0, 0.0};
         std::array<std::optional<std::array<double, 2>>, 2> h;
         auto halves = [&](int d) -> const std::array<double, 2>& {
-            if (!h[d]) {
-                const auto hv = r.halves(d);
-                h[d] = {gauss(hv[0]), gauss(hv[1])};
-            }
+            if (!h[d]) h[d] = halves_of(r, d);
             return *h[d];
         };
         auto s_halves = [&] { return halves(0)[0] + halves(0)[1]; };
@@ -239,16 +236,19 @@ public:
     // A forced region left whole at the cap: its estimate and check, as make() gives them to a
     // region it does not force.
     void complete(Region& reg) const {
-        auto halves = [&](int d) {
-            const auto hv = reg.r.halves(d);
-            return std::array<double, 2>{gauss(hv[0]), gauss(hv[1])};
-        };
-        estimate(reg, differences(reg, halves));
+        estimate(reg, differences(reg, [&](int d) { return halves_of(reg.r, d); }));
         check(reg);
     }
 
 private:
-    // How far the halves along s and along t are from the region's coarse value.
+    // The rule on the region's two halves along s (d = 0) or t (d = 1).
+    std::array<double, 2> halves_of(const Rect& r, int d) const {
+        const auto hv = r.halves(d);
+        return {gauss(hv[0]), gauss(hv[1])};
+    }
+
+    // How far the halves along s and along t are from the region's coarse value (computed here
+    // first when not yet known: a forced root's).
     template <class Halves>
     std::array<double, 2> differences(Region& reg, Halves&& halves) const {
         if (std::isnan(reg.coarse)) reg.coarse = gauss(reg.r);
