@@ -51,13 +51,14 @@ private:
     FormFactorStats* m_st;
 };
 
-// The centroid of the points and the largest distance from it.
-BoundingSphere bound_of(const std::vector<QuadPoint>& pts) {
+// The centroid of the points (each with its position x) and the largest distance from it.
+template <class Point>
+BoundingSphere bound_of(const std::vector<Point>& pts) {
     Vec3 c(0.0);
-    for (const QuadPoint& p : pts) c += p.x;
+    for (const Point& p : pts) c += p.x;
     c /= static_cast<double>(std::max<std::size_t>(pts.size(), 1));
     double r2 = 0.0;
-    for (const QuadPoint& p : pts) r2 = std::max(r2, glm::dot(p.x - c, p.x - c));
+    for (const Point& p : pts) r2 = std::max(r2, glm::dot(p.x - c, p.x - c));
     return {c, std::sqrt(r2)};
 }
 
@@ -184,6 +185,27 @@ public:
         return std::nullopt;
     }
 
+    // A node of the inner rule over patch j: its point, normal (|normal| = dA/ds dt) and weight.
+    struct InnerNode {
+        Vec3 x, n;
+        double w;
+    };
+    // The tensor rule's nodes over patch j in the order the inner sum takes them. The same for
+    // every outer point, so computed once per pair: on a sphere every point and normal costs
+    // sines and cosines, and recomputing them at each outer node took 65 % of a room of balls'
+    // form factors.
+    std::vector<InnerNode> inner_nodes(const Patch& pj, const Surface& sj, const GaussRule& rule) const {
+        const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
+        std::vector<InnerNode> nodes;
+        nodes.reserve(rule.x.size() * rule.x.size());
+        for (std::size_t b = 0; b < rule.x.size(); ++b)
+            for (std::size_t a = 0; a < rule.x.size(); ++a) {
+                const double u = pj.s0 + hs * (rule.x[a] + 1.0), w = pj.t0 + ht * (rule.x[b] + 1.0);
+                nodes.push_back({sj.point(u, w), sj.normal(u, w), rule.w[a] * rule.w[b]});
+            }
+        return nodes;
+    }
+
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
     Estimate area_times_f_numeric(int i, int j, const std::vector<int>& blockers, double tol,
                                   FormFactorStats* st) const {
@@ -192,6 +214,22 @@ public:
         const Surface& si = m_geo.surface(pi.surface);
         const Surface& sj = m_geo.surface(pj.surface);
         const BlockerSet guard(m_geo, m_opt.visibility ? blockers : std::vector<int>{});
+        // The inner integral by two Gauss rules over the whole receiver: their difference
+        // estimates its error. (Adaptive inner integration with visibility tests costs orders
+        // of magnitude more and is left out; this path serves curved receivers and general
+        // occluders, where the closed form does not apply.)
+        const std::vector<InnerNode> fine_nodes = inner_nodes(pj, sj, m_inner_fine),
+                                     coarse_nodes = inner_nodes(pj, sj, m_inner);
+        const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
+        const double min_l2 = 1e-24 * m_geo.scale() * m_geo.scale();
+        // The ball holding both rules' inner nodes: a blocker
+        // far from every segment from x to it is left out of x's tests, as in integrate().
+        BoundingSphere ends{Vec3(0.0), 0.0};
+        if (!guard.empty()) {
+            std::vector<InnerNode> all = fine_nodes;
+            all.insert(all.end(), coarse_nodes.begin(), coarse_nodes.end());
+            ends = bound_of(all);
+        }
         double inner_err = 0.0;
         long long tests = 0;
         auto g = [&](double s, double t) {
@@ -199,33 +237,23 @@ public:
             const double da = glm::length(ni);
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
-            auto h = [&](double u, double w) {
-                const Vec3 y = sj.point(u, w);
-                const Vec3 e = y - x;
-                const double ci = glm::dot(ni, e);
-                if (ci <= 0.0) return 0.0;
-                const Vec3 nj = sj.normal(u, w);
-                const double cj = -glm::dot(nj, e);
-                if (cj <= 0.0) return 0.0;
-                const double l2 = glm::dot(e, e);
-                if (!(l2 > 1e-24 * m_geo.scale() * m_geo.scale())) return 0.0;
-                if (!guard.empty() && guard.blocked(x, e, 1e-9, 1.0 - 1e-9, &tests)) return 0.0;
-                return ci * cj / (kPi * da * l2 * l2);
-            };
-            // The inner integral by two Gauss rules over the whole receiver: their difference
-            // estimates its error. (Adaptive inner integration with visibility tests costs
-            // orders of magnitude more and is left out; this path serves curved receivers and
-            // general occluders, where the closed form does not apply.)
-            const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
-            auto rule_sum = [&](const GaussRule& rule) {
+            const std::uint64_t mask = guard.empty() ? 0 : guard.near(x, ends.center, ends.radius);
+            auto rule_sum = [&](const std::vector<InnerNode>& nodes) {
                 double sum = 0.0;
-                for (std::size_t b = 0; b < rule.x.size(); ++b)
-                    for (std::size_t a = 0; a < rule.x.size(); ++a)
-                        sum += rule.w[a] * rule.w[b] *
-                               h(pj.s0 + hs * (rule.x[a] + 1.0), pj.t0 + ht * (rule.x[b] + 1.0));
+                for (const InnerNode& node : nodes) {
+                    const Vec3 e = node.x - x;
+                    const double ci = glm::dot(ni, e);
+                    if (ci <= 0.0) continue;
+                    const double cj = -glm::dot(node.n, e);
+                    if (cj <= 0.0) continue;
+                    const double l2 = glm::dot(e, e);
+                    if (!(l2 > min_l2)) continue;
+                    if (!guard.empty() && guard.blocked(x, e, 1e-9, 1.0 - 1e-9, &tests, mask)) continue;
+                    sum += node.w * (ci * cj / (kPi * da * l2 * l2));
+                }
                 return sum * hs * ht;
             };
-            const double fine = rule_sum(m_inner_fine), coarse = rule_sum(m_inner);
+            const double fine = rule_sum(fine_nodes), coarse = rule_sum(coarse_nodes);
             inner_err = std::max(inner_err, kSafety * std::abs(fine - coarse));
             return da * fine;
         };
