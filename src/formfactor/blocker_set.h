@@ -57,6 +57,39 @@ public:
         return mask;
     }
 
+    // The blockers that may meet some segment from x to a point within `radius` of `center`,
+    // as indices in list order: near() without its limit of 64 (a crowd of balls puts hundreds
+    // on a pair's list, and a point's segments pass near few of them).
+    void near_list(const Vec3& x, const Vec3& center, double radius, std::vector<int>* out) const {
+        out->clear();
+        const Vec3 e = center - x;
+        const double l2 = glm::dot(e, e);
+        for (std::size_t k = 0; k < m_items.size(); ++k) {
+            const double reach = std::sqrt(m_items[k].reach2) + radius;
+            if (distance2(x - m_items[k].center, e, l2) <= reach * reach) out->push_back(static_cast<int>(k));
+        }
+    }
+
+    // blocked() asked of the blockers in `near` only (from near_list(x, ...) for a segment's
+    // far end in that ball), the same answer; *tests counts as blocked() counts, the whole
+    // list's blockers up to the one that blocks.
+    bool blocked_among(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests,
+                       const std::vector<int>& near) const {
+        const double l2 = glm::dot(e, e);
+        for (const int k : near) {
+            const Item& it = m_items[static_cast<std::size_t>(k)];
+            const Vec3 oc = x - it.center;
+            const double d2 = distance2(oc, e, l2);
+            if (d2 > it.reach2) continue;
+            if (crosses(it, oc, e, d2, l2, t_min, t_max) || it.surface->blocks(Ray{x, e}, t_min, t_max)) {
+                *tests += k + 1;
+                return true;
+            }
+        }
+        *tests += static_cast<long long>(m_items.size());
+        return false;
+    }
+
     // True when a blocker meets the segment x + t e, t_min < t < t_max (0 <= t_min, t_max <= 1),
     // among those in `mask` (from near(x, ...) for a segment's far end in that ball). *tests
     // counts the blockers in the pair's list up to the one that blocks (all when none does),

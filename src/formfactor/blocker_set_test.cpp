@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -84,6 +86,44 @@ surfaces:
     tests = 0;
     EXPECT_FALSE(guard.blocked(Vec3(-3, 0, 0), Vec3(2, 0, 0), 1e-9, 1.0 - 1e-9, &tests));
     EXPECT_TRUE(BlockerSet(g, {}).empty());
+}
+
+// A crowd of 125 balls on one pair's list (past near()'s 64): from points among them toward a
+// ball of receiving points, the blockers near_list keeps answer every segment as the whole
+// list does, with the same count of blockers asked, and keep far fewer than all.
+TEST(BlockerSet, ANearListAnswersAsTheWholeListDoes) {
+    std::string yaml = "closed: false\nsurfaces:\n";
+    for (int i = 0; i < 125; ++i)
+        yaml += "  - {name: b" + std::to_string(i) + ", type: sphere, center: [" + std::to_string(i % 5) +
+                ", " + std::to_string(i / 5 % 5) + ", " + std::to_string(i / 25) +
+                "], radius: 0.3, patches: [4, 2], reflectance: [0.5, 0.5, 0.5]}\n";
+    const Scene scene = parse_scene(yaml, "crowd.yaml");
+    const SceneGeometry g(scene);
+    std::vector<int> all(125);
+    for (int i = 0; i < 125; ++i) all[static_cast<std::size_t>(i)] = i;
+    const BlockerSet guard(g, all);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-0.5, 4.5), d(-0.25, 0.25);
+    std::vector<int> near;
+    long long blocked = 0, kept = 0, segments = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const Vec3 x(u(rng), u(rng), u(rng)), centre(u(rng), u(rng), u(rng));
+        const double radius = 0.45;  // holds centre + (d, d, d), |d| <= 0.25
+        guard.near_list(x, centre, radius, &near);
+        kept += static_cast<long long>(near.size());
+        for (int k = 0; k < 20; ++k) {
+            const Vec3 y = centre + Vec3(d(rng), d(rng), d(rng));
+            long long whole = 0, among = 0;
+            const bool expected = guard.blocked(x, y - x, 1e-9, 1.0 - 1e-9, &whole);
+            ASSERT_EQ(guard.blocked_among(x, y - x, 1e-9, 1.0 - 1e-9, &among, near), expected) << trial;
+            EXPECT_EQ(among, whole) << trial;
+            blocked += expected ? 1 : 0;
+            ++segments;
+        }
+    }
+    EXPECT_GT(blocked, segments / 10);
+    EXPECT_LT(blocked, segments - segments / 10);
+    EXPECT_LT(kept, 400LL * 125 / 4);
 }
 
 }  // namespace radiosa

@@ -232,12 +232,13 @@ public:
         }
         double inner_err = 0.0;
         long long tests = 0;
+        std::vector<int> near;
         auto g = [&](double s, double t) {
             const Vec3 ni = si.normal(s, t);
             const double da = glm::length(ni);
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
-            const std::uint64_t mask = guard.empty() ? 0 : guard.near(x, ends.center, ends.radius);
+            if (!guard.empty()) guard.near_list(x, ends.center, ends.radius, &near);
             auto rule_sum = [&](const std::vector<InnerNode>& nodes) {
                 double sum = 0.0;
                 for (const InnerNode& node : nodes) {
@@ -248,7 +249,7 @@ public:
                     if (cj <= 0.0) continue;
                     const double l2 = glm::dot(e, e);
                     if (!(l2 > min_l2)) continue;
-                    if (!guard.empty() && guard.blocked(x, e, 1e-9, 1.0 - 1e-9, &tests, mask)) continue;
+                    if (!guard.empty() && guard.blocked_among(x, e, 1e-9, 1.0 - 1e-9, &tests, near)) continue;
                     sum += node.w * (ci * cj / (kPi * da * l2 * l2));
                 }
                 return sum * hs * ht;
