@@ -222,8 +222,8 @@ public:
                                      coarse_nodes = inner_nodes(pj, sj, m_inner);
         const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
         const double min_l2 = 1e-24 * m_geo.scale() * m_geo.scale();
-        // The ball holding both rules' inner nodes: a blocker
-        // far from every segment from x to it is left out of x's tests, as in integrate().
+        // The ball holding both rules' inner nodes: each outer point x asks only the blockers
+        // that may come near a segment from x to it (integrate() masks them likewise).
         BoundingSphere ends{Vec3(0.0), 0.0};
         if (!guard.empty()) {
             std::vector<InnerNode> all = fine_nodes;
