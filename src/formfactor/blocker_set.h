@@ -6,9 +6,7 @@
 // that graze a blocker pay for its exact test (a virtual call, a transform for a placed surface,
 // square roots). The guard answers only where the exact test's answer is certain, so matrices
 // are bit for bit what testing every blocker gives.
-#include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <vector>
 
 #include "geometry/scene_geometry.h"
@@ -41,25 +39,10 @@ public:
     }
     bool empty() const { return m_items.empty(); }
 
-    // The blockers (as bits, in list order; a list longer than 64 keeps every one from the 64th
-    // on) that may meet some segment from x to a point within `radius` of `center`: a segment
-    // from x to such a point lies within `radius` of the segment from x to the centre.
-    std::uint64_t near(const Vec3& x, const Vec3& center, double radius) const {
-        std::uint64_t mask = 0;
-        const Vec3 e = center - x;
-        const double l2 = glm::dot(e, e);
-        for (std::size_t k = 0; k < m_items.size(); ++k) {
-            const Item& it = m_items[k];
-            const double reach = std::sqrt(it.reach2) + radius;
-            if (k >= 63 || distance2(x - it.center, e, l2) <= reach * reach)
-                mask |= std::uint64_t{1} << std::min<std::size_t>(k, 63);
-        }
-        return mask;
-    }
-
     // The blockers that may meet some segment from x to a point within `radius` of `center`,
-    // as indices in list order: near() without its limit of 64 (a crowd of balls puts hundreds
-    // on a pair's list, and a point's segments pass near few of them).
+    // as indices in list order: a segment from x to such a point lies within `radius` of the
+    // segment from x to the centre. A crowd of balls puts hundreds on a pair's list, and a
+    // point's segments pass near few of them.
     void near_list(const Vec3& x, const Vec3& center, double radius, std::vector<int>* out) const {
         out->clear();
         const Vec3 e = center - x;
@@ -70,43 +53,29 @@ public:
         }
     }
 
-    // blocked() asked of the blockers in `near` only (from near_list(x, ...) for a segment's
-    // far end in that ball), the same answer; *tests counts as blocked() counts, the whole
-    // list's blockers up to the one that blocks.
-    bool blocked_among(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests,
-                       const std::vector<int>& near) const {
-        const double l2 = glm::dot(e, e);
-        for (const int k : near) {
-            const Item& it = m_items[static_cast<std::size_t>(k)];
-            const Vec3 oc = x - it.center;
-            const double d2 = distance2(oc, e, l2);
-            if (d2 > it.reach2) continue;
-            if (crosses(it, oc, e, d2, l2, t_min, t_max) || it.surface->blocks(Ray{x, e}, t_min, t_max)) {
-                *tests += k + 1;
-                return true;
-            }
-        }
-        *tests += static_cast<long long>(m_items.size());
-        return false;
-    }
-
-    // True when a blocker meets the segment x + t e, t_min < t < t_max (0 <= t_min, t_max <= 1),
-    // among those in `mask` (from near(x, ...) for a segment's far end in that ball). *tests
-    // counts the blockers in the pair's list up to the one that blocks (all when none does),
-    // whether the guard, the mask or the surface answered.
-    bool blocked(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests,
-                 std::uint64_t mask = ~std::uint64_t{0}) const {
+    // True when a blocker meets the segment x + t e, t_min < t < t_max (0 <= t_min, t_max <= 1).
+    // *tests counts the blockers in the pair's list up to the one that blocks (all when none
+    // does), whether the guard or the surface answered.
+    bool blocked(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests) const {
         const double l2 = glm::dot(e, e);
         for (std::size_t k = 0; k < m_items.size(); ++k) {
             ++*tests;
-            if (!(mask >> std::min<std::size_t>(k, 63) & 1)) continue;
-            const Item& it = m_items[k];
-            const Vec3 oc = x - it.center;
-            const double d2 = distance2(oc, e, l2);
-            if (d2 > it.reach2) continue;
-            if (crosses(it, oc, e, d2, l2, t_min, t_max)) return true;
-            if (it.surface->blocks(Ray{x, e}, t_min, t_max)) return true;
+            if (meets(m_items[k], x, e, l2, t_min, t_max)) return true;
         }
+        return false;
+    }
+
+    // blocked() asked of the blockers in `near` only (from near_list(x, ...) for a segment's
+    // far end in that ball): the same answer, and *tests counts as blocked() counts.
+    bool blocked_among(const Vec3& x, const Vec3& e, double t_min, double t_max, long long* tests,
+                       const std::vector<int>& near) const {
+        const double l2 = glm::dot(e, e);
+        for (const int k : near)
+            if (meets(m_items[static_cast<std::size_t>(k)], x, e, l2, t_min, t_max)) {
+                *tests += k + 1;
+                return true;
+            }
+        *tests += static_cast<long long>(m_items.size());
         return false;
     }
 
@@ -129,6 +98,15 @@ private:
         Vec3 closest = oc;  // t = 0
         if (b < 0.0) closest = -b >= l2 ? oc + e : oc - (b / l2) * e;
         return glm::dot(closest, closest);
+    }
+
+    // True when the blocker meets the segment x + t e (l2 = |e|^2), t_min < t < t_max: the
+    // guard answers where it is certain, the surface's exact test otherwise.
+    static bool meets(const Item& it, const Vec3& x, const Vec3& e, double l2, double t_min, double t_max) {
+        const Vec3 oc = x - it.center;
+        const double d2 = distance2(oc, e, l2);
+        if (d2 > it.reach2) return false;
+        return crosses(it, oc, e, d2, l2, t_min, t_max) || it.surface->blocks(Ray{x, e}, t_min, t_max);
     }
 
     // True when the segment certainly crosses a whole sphere between t_min and t_max: its

@@ -88,7 +88,7 @@ surfaces:
     EXPECT_TRUE(BlockerSet(g, {}).empty());
 }
 
-// A crowd of 125 balls on one pair's list (past near()'s 64): from points among them toward a
+// A crowd of 125 balls on one pair's list: from points among them toward a
 // ball of receiving points, the blockers near_list keeps answer every segment as the whole
 // list does, with the same count of blockers asked, and keep far fewer than all.
 TEST(BlockerSet, ANearListAnswersAsTheWholeListDoes) {

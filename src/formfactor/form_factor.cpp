@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 
 #include "formfactor/blocker_set.h"
 #include "formfactor/contour_receiver.h"
@@ -101,15 +102,17 @@ public:
         if (!guard.empty()) ends = bound_of(b_pts);
         double sum = 0.0;
         long long tests = 0;
+        std::vector<int> near;
         for (const QuadPoint& a : a_pts) {
-            const std::uint64_t mask = guard.empty() ? 0 : guard.near(a.x, ends.center, ends.radius);
+            if (!guard.empty()) guard.near_list(a.x, ends.center, ends.radius, &near);
             for (const QuadPoint& b : b_pts) {
                 const Vec3 e = b.x - a.x;
                 const double ci = glm::dot(a.nw, e);
                 if (ci <= 0.0) continue;  // b is behind a's tangent plane (or on it)
                 const double cj = -glm::dot(b.nw, e);
                 if (cj <= 0.0) continue;
-                if (!guard.empty() && guard.blocked(a.x, e, kEndEps, 1.0 - kEndEps, &tests, mask)) continue;
+                if (!guard.empty() && guard.blocked_among(a.x, e, kEndEps, 1.0 - kEndEps, &tests, near))
+                    continue;
                 const double l2 = glm::dot(e, e);
                 sum += ci * cj / (l2 * l2);
             }
@@ -190,20 +193,18 @@ public:
         Vec3 x, n;
         double w;
     };
-    // The tensor rule's nodes over patch j in the order the inner sum takes them. The same for
-    // every outer point, so computed once per pair: on a sphere every point and normal costs
-    // sines and cosines, and recomputing them at each outer node took 65 % of a room of balls'
-    // form factors.
-    std::vector<InnerNode> inner_nodes(const Patch& pj, const Surface& sj, const GaussRule& rule) const {
+    // Appends the tensor rule's nodes over patch j in the order the inner sum takes them. The
+    // same for every outer point, so computed once per pair: on a sphere every point and
+    // normal costs sines and cosines, and recomputing them at each outer node took 65 % of a
+    // room of balls' form factors.
+    void add_inner_nodes(const Patch& pj, const Surface& sj, const GaussRule& rule,
+                         std::vector<InnerNode>* nodes) const {
         const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
-        std::vector<InnerNode> nodes;
-        nodes.reserve(rule.x.size() * rule.x.size());
         for (std::size_t b = 0; b < rule.x.size(); ++b)
             for (std::size_t a = 0; a < rule.x.size(); ++a) {
                 const double u = pj.s0 + hs * (rule.x[a] + 1.0), w = pj.t0 + ht * (rule.x[b] + 1.0);
-                nodes.push_back({sj.point(u, w), sj.normal(u, w), rule.w[a] * rule.w[b]});
+                nodes->push_back({sj.point(u, w), sj.normal(u, w), rule.w[a] * rule.w[b]});
             }
-        return nodes;
     }
 
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
@@ -218,18 +219,18 @@ public:
         // estimates its error. (Adaptive inner integration with visibility tests costs orders
         // of magnitude more and is left out; this path serves curved receivers and general
         // occluders, where the closed form does not apply.)
-        const std::vector<InnerNode> fine_nodes = inner_nodes(pj, sj, m_inner_fine),
-                                     coarse_nodes = inner_nodes(pj, sj, m_inner);
+        std::vector<InnerNode> nodes;  // the fine rule's, then the coarse rule's
+        add_inner_nodes(pj, sj, m_inner_fine, &nodes);
+        const std::size_t fine_count = nodes.size();
+        add_inner_nodes(pj, sj, m_inner, &nodes);
+        const std::span<const InnerNode> fine_nodes(nodes.data(), fine_count),
+            coarse_nodes(nodes.data() + fine_count, nodes.size() - fine_count);
         const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
         const double min_l2 = 1e-24 * m_geo.scale() * m_geo.scale();
         // The ball holding both rules' inner nodes: each outer point x asks only the blockers
-        // that may come near a segment from x to it (integrate() masks them likewise).
+        // that may come near a segment from x to it, as in integrate().
         BoundingSphere ends{Vec3(0.0), 0.0};
-        if (!guard.empty()) {
-            std::vector<InnerNode> all = fine_nodes;
-            all.insert(all.end(), coarse_nodes.begin(), coarse_nodes.end());
-            ends = bound_of(all);
-        }
+        if (!guard.empty()) ends = bound_of(nodes);
         double inner_err = 0.0;
         long long tests = 0;
         std::vector<int> near;
@@ -239,9 +240,9 @@ public:
             if (!(da > 0.0)) return 0.0;
             const Vec3 x = si.point(s, t);
             if (!guard.empty()) guard.near_list(x, ends.center, ends.radius, &near);
-            auto rule_sum = [&](const std::vector<InnerNode>& nodes) {
+            auto rule_sum = [&](std::span<const InnerNode> rule_nodes) {
                 double sum = 0.0;
-                for (const InnerNode& node : nodes) {
+                for (const InnerNode& node : rule_nodes) {
                     const Vec3 e = node.x - x;
                     const double ci = glm::dot(ni, e);
                     if (ci <= 0.0) continue;
