@@ -166,10 +166,11 @@ Estimate area_times_f_contour(const SceneGeometry& g, int i, int j, const Contou
     const Surface& si = g.surface(pi.surface);
     const double inner_tol = std::max(1e-15, 0.05 * tol * std::min(pi.area, pj.area) / pi.area);
     auto contour_at = [&](double s, double t, double* da) {
-        const Vec3 nrm = si.normal(s, t);
+        Vec3 x, nrm;
+        si.point_and_normal(s, t, &x, &nrm);
         *da = glm::length(nrm);
         if (!(*da > 0.0)) return ContourValue{};
-        ContourValue v = point_to_contour(si.point(s, t), nrm / *da, how.pieces, inner_tol);
+        ContourValue v = point_to_contour(x, nrm / *da, how.pieces, inner_tol);
         if (how.contains_x) v.value += 1.0;
         return v;
     };

@@ -235,10 +235,10 @@ public:
         long long tests = 0;
         std::vector<int> near;
         auto g = [&](double s, double t) {
-            const Vec3 ni = si.normal(s, t);
+            Vec3 x, ni;
+            si.point_and_normal(s, t, &x, &ni);
             const double da = glm::length(ni);
             if (!(da > 0.0)) return 0.0;
-            const Vec3 x = si.point(s, t);
             if (!guard.empty()) guard.near_list(x, ends.center, ends.radius, &near);
             auto rule_sum = [&](std::span<const InnerNode> rule_nodes) {
                 double sum = 0.0;

@@ -202,10 +202,10 @@ public:
         const std::array<Vec3, 4> v = m_geo.front_polygon(j);
         const BoundingSphere* b = shadow.spheres.empty() ? nullptr : &shadow.spheres[0];
         auto g = [&](double s, double t) {
-            const Vec3 nrm = si.normal(s, t);
+            Vec3 x, nrm;
+            si.point_and_normal(s, t, &x, &nrm);
             const double da = glm::length(nrm);
             if (!(da > 0.0)) return 0.0;
-            const Vec3 x = si.point(s, t);
             if (!shadow.openings.empty()) {  // from inside a tube or a cap: what each open end lets through
                 double through = 0.0;
                 for (const FlatDisk& rim : shadow.openings)

@@ -76,11 +76,12 @@ int clip_to_front(const Vec3& x, const Vec3& n, const Vec3* v, int count,
 double pseudo_angle(double c, double s) { return s >= 0.0 ? 1.0 - c : 3.0 + c; }
 
 // Adds to `blocked`, term by term, the Lambert integral along the arcs of the cap's boundary circle, w(t) =
-// cos_a d + sin_a (cos t e1 + sin t e2), that lie inside the spherical polygon w[0..nc). The
+// cos_a d + sin_a (cos t e1 + sin t e2), that lie inside the spherical polygon whose edges' great
+// circles have the normals mk[0..nc) (w[k] x w[k + 1], pointing inside). The
 // circle is cut where it crosses the polygon's edges' great circles; every cut is a unit vector
 // (cos t, sin t) found by algebra, the pieces are ordered by pseudo_angle, and only a piece that
 // is inside takes one atan2 (its angle): this is the innermost loop of every shadowed pair.
-double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& w, int nc, const Vec3& n,
+double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& mk, int nc, const Vec3& n,
                              const Vec3& d, double sin_a, double cos_a) {
     const Vec3 e1 =
         unit_or_zero(std::abs(d.x) < 0.9 ? glm::cross(d, Vec3(1, 0, 0)) : glm::cross(d, Vec3(0, 1, 0)));
@@ -90,9 +91,7 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
     };
     std::array<CutPoint, 2 * kMaxVerts> cuts;
     int ncuts = 0;
-    std::array<Vec3, kMaxVerts> mk;
     for (int k = 0; k < nc; ++k) {
-        mk[k] = glm::cross(w[k], w[next_in_cycle(k, nc)]);
         const double a0 = glm::dot(d, mk[k]), b1 = glm::dot(e1, mk[k]), b2 = glm::dot(e2, mk[k]);
         const double amp = std::sqrt(b1 * b1 + b2 * b2);
         if (amp * sin_a <= std::abs(a0) * cos_a)
@@ -157,11 +156,13 @@ double add_cap_circle_inside(double blocked, const std::array<Vec3, kMaxVerts>& 
     return blocked;
 }
 
-// The polygon as seen from x: its front part's vertex directions w, the unit normals u of
-// its edges' great circles, and (once measure() has run) their angles and Lambert's integral
-// over it (2 pi times the unblocked form factor).
+// The polygon as seen from x: its front part's vertex directions w, the normals m = w[k] x
+// w[k + 1] of its edges' great circles and their unit vectors u (with |m|, the sine of each
+// edge's angle), and (once measure() has run) the angles and Lambert's integral over it (2 pi
+// times the unblocked form factor). Each cross product is taken once: measure() and the cap's
+// circle reuse them.
 struct SphericalPolygon {
-    std::array<Vec3, kMaxVerts> w, u;
+    std::array<Vec3, kMaxVerts> w, u, m;
     std::array<ArcAngle, kMaxVerts> arc{};
     int nc = 0;
     double whole = 0.0;
@@ -177,8 +178,7 @@ void measure(const Vec3& n, SphericalPolygon* sp) {
     for (int k = 0; k < sp->nc; ++k) {
         const Vec3& a = sp->w[k];
         const Vec3& b = sp->w[next_in_cycle(k, sp->nc)];
-        ArcAngle& arc = sp->arc[k];
-        arc.sin = glm::length(glm::cross(a, b));
+        ArcAngle& arc = sp->arc[k];  // arc.sin is |m[k]|, from project()
         arc.cos = glm::dot(a, b);
         arc.gamma = std::atan2(arc.sin, arc.cos);  // accurate for small and large angles
         sp->whole += arc.gamma * glm::dot(n, sp->u[k]);
@@ -197,8 +197,11 @@ bool project(const Vec3& x, const Vec3& n, const Vec3* v, int count, SphericalPo
     if (sp->nc < 3) return false;
     for (int k = 0; k < sp->nc; ++k) sp->w[k] = unit_or_zero(clipped[k] - x);
 
-    for (int k = 0; k < sp->nc; ++k)
-        sp->u[k] = unit_or_zero(glm::cross(sp->w[k], sp->w[next_in_cycle(k, sp->nc)]));
+    for (int k = 0; k < sp->nc; ++k) {
+        sp->m[k] = glm::cross(sp->w[k], sp->w[next_in_cycle(k, sp->nc)]);
+        sp->arc[k].sin = glm::length(sp->m[k]);
+        sp->u[k] = sp->arc[k].sin > 0.0 ? sp->m[k] / sp->arc[k].sin : Vec3(0.0);
+    }
     sp->measured = false;
     return true;
 }
@@ -242,7 +245,7 @@ double blocked_part(SphericalPolygon& sp, const Vec3& x, const Vec3& n, const Bo
             if (glm::dot(d, sp.u[k]) < 0.0) return 0.0;
     }
     // (2) arcs of the cap's circle inside the polygon.
-    return add_cap_circle_inside(blocked, sp.w, sp.nc, n, d, sin_a, cos_a);
+    return add_cap_circle_inside(blocked, sp.m, sp.nc, n, d, sin_a, cos_a);
 }
 
 }  // namespace

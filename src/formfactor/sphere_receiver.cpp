@@ -250,10 +250,11 @@ Estimate area_times_f_sphere(const SceneGeometry& g, int i, int j, const SphereR
     double inner_err = 0.0;
     SphericalRegion work;
     auto gx = [&](double s, double t) {
-        const Vec3 nrm = si.normal(s, t);
+        Vec3 x, nrm;
+        si.point_and_normal(s, t, &x, &nrm);
         const double da = glm::length(nrm);
         if (!(da > 0.0)) return 0.0;
-        const Vec3 x = si.point(s, t), unit = nrm / da;
+        const Vec3 unit = nrm / da;
         double sum = 0.0, err = 0.0;
         for (const Piece& p : pieces) {
             work = p.region;

@@ -32,6 +32,17 @@ void SphereSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
     *dPdt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
 }
 
+void SphereSurface::point_and_normal(double s, double t, Vec3* x, Vec3* n) const {
+    // point() and partials() from one sine and cosine of each angle: the same expressions, so
+    // the same bits.
+    const double phi = m_angles.at(s), th = theta(t);
+    const double sp = std::sin(phi), cp = std::cos(phi), st = std::sin(th), ct = std::cos(th);
+    *x = m_center + m_radius * Vec3(st * cp, st * sp, ct);
+    const Vec3 ds = (m_angles.span * m_radius) * Vec3(-st * sp, st * cp, 0.0);
+    const Vec3 dt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
+    *n = orientation() * glm::cross(ds, dt);
+}
+
 std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min, double t_max,
                                                    HitSide side) const {
     double roots[2];

@@ -14,6 +14,7 @@ public:
                   double theta_top = 0.0, double theta_bottom = kPi);
     Vec3 point(double s, double t) const override;
     void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
+    void point_and_normal(double s, double t, Vec3* x, Vec3* n) const override;
     std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
                                         HitSide side) const override;
     bool blocks(const Ray& ray, double t_min, double t_max) const override;

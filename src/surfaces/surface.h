@@ -110,6 +110,13 @@ public:
         partials(s, t, &ds, &dt);
         return m_orientation * glm::cross(ds, dt);
     }
+    // point(s, t) and normal(s, t) at once, the same values: the outer integrals of form factors
+    // take both at every node, and a surface whose two share their sines and cosines (a
+    // sphere's) computes them once.
+    virtual void point_and_normal(double s, double t, Vec3* x, Vec3* n) const {
+        *x = point(s, t);
+        *n = normal(s, t);
+    }
 
     // The nearest crossing with dist in (t_min, t_max) (only front-side ones if asked).
     virtual std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,

@@ -70,6 +70,25 @@ TEST(Sphere, PartialsMatchFiniteDifferences) {
         for (double t : {0.2, 0.5, 0.77}) expect_partials_match_finite_differences(sph, s, t);
 }
 
+// The outer integrals take a node's point and normal in one call (point_and_normal), which a
+// sphere computes from one sine and cosine of each angle: it must give exactly point() and
+// normal(), so that form factors keep their bits, on a partial and inward sphere too.
+TEST(Sphere, PointAndNormalAreExactlyPointAndNormal) {
+    const SphereSurface whole(Vec3(0.5, -1, 2), 1.7, false);
+    const SphereSurface zone(Vec3(-2, 0.25, 1), 0.6, true, AngleRange{0.4, 2.1}, 0.3, 2.2);
+    for (const SphereSurface* sph : {&whole, &zone})
+        for (double s : {0.0, 0.1, 0.45, 0.8, 1.0})
+            for (double t : {0.0, 0.2, 0.5, 0.77, 1.0}) {
+                Vec3 x, n;
+                sph->point_and_normal(s, t, &x, &n);
+                const Vec3 px = sph->point(s, t), pn = sph->normal(s, t);
+                for (int k = 0; k < 3; ++k) {
+                    EXPECT_EQ(x[k], px[k]) << s << " " << t;
+                    EXPECT_EQ(n[k], pn[k]) << s << " " << t;
+                }
+            }
+}
+
 TEST(Sphere, RayHitsFrontThenBack) {
     const SphereSurface sph(Vec3(0), 1, false);
     const Ray r{Vec3(5, 0, 0), Vec3(-1, 0, 0)};
