@@ -59,7 +59,9 @@ inline std::vector<QuadPoint> quadrature_points(const Surface& surf, const Patch
         for (int a = 0; a < n; ++a) {
             const double s = p.s0 + hs * (rule.x[a] + 1.0);
             const double t = p.t0 + ht * (rule.x[b] + 1.0);
-            pts.push_back({surf.point(s, t), surf.normal(s, t) * (rule.w[a] * rule.w[b] * hs * ht)});
+            QuadPoint& q = pts.emplace_back();
+            surf.point_and_normal(s, t, &q.x, &q.nw);
+            q.nw *= rule.w[a] * rule.w[b] * hs * ht;
         }
     return pts;
 }

@@ -203,7 +203,9 @@ public:
         for (std::size_t b = 0; b < rule.x.size(); ++b)
             for (std::size_t a = 0; a < rule.x.size(); ++a) {
                 const double u = pj.s0 + hs * (rule.x[a] + 1.0), w = pj.t0 + ht * (rule.x[b] + 1.0);
-                nodes->push_back({sj.point(u, w), sj.normal(u, w), rule.w[a] * rule.w[b]});
+                InnerNode& node = nodes->emplace_back();
+                sj.point_and_normal(u, w, &node.x, &node.n);
+                node.w = rule.w[a] * rule.w[b];
             }
     }
 

@@ -252,8 +252,9 @@ public:
         const PolygonPair open = polygon_to_polygon(vi.data(), 4, vj.data(), 4, kOpenShare * pair_tol);
         const Vec3 unit = glm::normalize(si.normal(0.5 * (pi.s0 + pi.s1), 0.5 * (pi.t0 + pi.t1)));
         auto g = [&](double s, double t) {
-            const double da = glm::length(si.normal(s, t));
-            const Vec3 x = si.point(s, t);
+            Vec3 x, nrm;
+            si.point_and_normal(s, t, &x, &nrm);
+            const double da = glm::length(nrm);
             if (shadow.disk)
                 return da * point_to_polygon_hidden_by_disk(x, unit, vj.data(), 4, *shadow.disk).value;
             if (shadow.column)

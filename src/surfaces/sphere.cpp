@@ -17,30 +17,34 @@ SphereSurface::SphereSurface(const Vec3& center, double radius, bool inward, con
     m_orientation = inward ? -1.0 : 1.0;
 }
 
-Vec3 SphereSurface::point(double s, double t) const {
+SphereSurface::Trig SphereSurface::trig(double s, double t) const {
     const double phi = m_angles.at(s), th = theta(t);
-    const double st = std::sin(th);
-    return m_center + m_radius * Vec3(st * std::cos(phi), st * std::sin(phi), std::cos(th));
+    return {std::sin(phi), std::cos(phi), std::sin(th), std::cos(th)};
 }
 
-void SphereSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
+Vec3 SphereSurface::point_of(const Trig& a) const {
+    return m_center + m_radius * Vec3(a.st * a.cp, a.st * a.sp, a.ct);
+}
+
+void SphereSurface::partials_of(const Trig& a, Vec3* dPds, Vec3* dPdt) const {
     // dP/ds x dP/dt = span (theta_bottom - theta_top) R^2 sin(theta) r_hat: outward, vanishing at
     // the poles.
-    const double phi = m_angles.at(s), th = theta(t);
-    const double sp = std::sin(phi), cp = std::cos(phi), st = std::sin(th), ct = std::cos(th);
-    *dPds = (m_angles.span * m_radius) * Vec3(-st * sp, st * cp, 0.0);
-    *dPdt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
+    *dPds = (m_angles.span * m_radius) * Vec3(-a.st * a.sp, a.st * a.cp, 0.0);
+    *dPdt = (-(m_bottom - m_top) * m_radius) * Vec3(a.ct * a.cp, a.ct * a.sp, -a.st);
+}
+
+Vec3 SphereSurface::point(double s, double t) const { return point_of(trig(s, t)); }
+
+void SphereSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
+    partials_of(trig(s, t), dPds, dPdt);
 }
 
 void SphereSurface::point_and_normal(double s, double t, Vec3* x, Vec3* n) const {
-    // point() and partials() from one sine and cosine of each angle: the same expressions, so
-    // the same bits.
-    const double phi = m_angles.at(s), th = theta(t);
-    const double sp = std::sin(phi), cp = std::cos(phi), st = std::sin(th), ct = std::cos(th);
-    *x = m_center + m_radius * Vec3(st * cp, st * sp, ct);
-    const Vec3 ds = (m_angles.span * m_radius) * Vec3(-st * sp, st * cp, 0.0);
-    const Vec3 dt = (-(m_bottom - m_top) * m_radius) * Vec3(ct * cp, ct * sp, -st);
-    *n = orientation() * glm::cross(ds, dt);
+    const Trig a = trig(s, t);
+    Vec3 ds, dt;
+    partials_of(a, &ds, &dt);
+    *x = point_of(a);
+    *n = normal_of(ds, dt);
 }
 
 std::optional<SurfaceHit> SphereSurface::intersect(const Ray& ray, double t_min, double t_max,

@@ -66,6 +66,14 @@ private:
     // those are inside the ranges.
     std::optional<SurfaceHit> hit_at_angles(double dist, double phi, double th, bool front) const;
     double theta(double t) const { return (m_bottom - m_top) * (1.0 - t) + m_top; }
+    // The sines and cosines of the azimuth (p) and the polar angle (t) at (s, t): what point()
+    // and partials() are made of, so that point_and_normal() takes them once.
+    struct Trig {
+        double sp, cp, st, ct;
+    };
+    Trig trig(double s, double t) const;
+    Vec3 point_of(const Trig& a) const;
+    void partials_of(const Trig& a, Vec3* dPds, Vec3* dPdt) const;
     Vec3 m_center;
     double m_radius;
     AngleRange m_angles;

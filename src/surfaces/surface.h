@@ -108,7 +108,7 @@ public:
     Vec3 normal(double s, double t) const {
         Vec3 ds, dt;
         partials(s, t, &ds, &dt);
-        return m_orientation * glm::cross(ds, dt);
+        return normal_of(ds, dt);
     }
     // point(s, t) and normal(s, t) at once, the same values: the outer integrals of form factors
     // take both at every node, and a surface whose two share their sines and cosines (a
@@ -264,6 +264,11 @@ public:
     virtual void write_key(ByteWriter& w) const = 0;
 
 protected:
+    // normal()'s front normal from the partials dP/ds and dP/dt.
+    Vec3 normal_of(const Vec3& dPds, const Vec3& dPdt) const {
+        return m_orientation * glm::cross(dPds, dPdt);
+    }
+
     double m_orientation = 1.0;
 };
 
