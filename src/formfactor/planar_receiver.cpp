@@ -98,6 +98,40 @@ void add_events(EventSet* events, const std::array<Vec3, 4>& v, const ShadowOccl
     if (const auto* c = std::get_if<SphericalCap>(&o)) events->add_cap(v, *c);
 }
 
+// Whether some two balls' cones of directions meet as seen from one corner of the region and not
+// from another. Where two cones start to overlap, what they hide together bends (a 3/2-power
+// kink in x, the lens between their circles) along a surface that no event marks; such a region
+// takes the 3 x 3 check. (A change of overlap between the corners and back, inside a small
+// region, is not seen: the cones' gap varies smoothly with x.)
+bool cones_meet_differently(const Surface& si, const Rect& r, const std::vector<BoundingSphere>& balls) {
+    // Each ball's direction u and half-angle alpha from each corner; two cones meet when the angle
+    // between their axes is below alpha_a + alpha_b: u_a . u_b > cos(alpha_a + alpha_b).
+    struct Seen {
+        Vec3 u;
+        double sin_a, cos_a;
+    };
+    std::array<std::array<Seen, kMaxShadowBalls>, 4> seen;
+    const std::array<Vec3, 4> corners = {si.point(r.s0, r.t0), si.point(r.s1, r.t0), si.point(r.s1, r.t1),
+                                         si.point(r.s0, r.t1)};
+    const std::size_t nb = std::min(balls.size(), kMaxShadowBalls);
+    for (std::size_t k = 0; k < 4; ++k)
+        for (std::size_t b = 0; b < nb; ++b) {
+            const Vec3 d = balls[b].center - corners[k];
+            const double l = glm::length(d), sa = std::min(1.0, balls[b].radius / l);
+            seen[k][b] = {d / l, sa, std::sqrt(1.0 - sa * sa)};
+        }
+    const auto meet = [&](std::size_t k, std::size_t a, std::size_t b) {
+        const Seen &p = seen[k][a], &q = seen[k][b];
+        return glm::dot(p.u, q.u) > p.cos_a * q.cos_a - p.sin_a * q.sin_a;
+    };
+    for (std::size_t a = 0; a < nb; ++a)
+        for (std::size_t b = a + 1; b < nb; ++b) {
+            const bool first = meet(0, a, b);
+            if (meet(1, a, b) != first || meet(2, a, b) != first || meet(3, a, b) != first) return true;
+        }
+    return false;
+}
+
 // Where the semi path's cubature over patch i splits a region, and which regions take the kink
 // check: the events where the inner integral over the receiver v (closed form) bends.
 class SemiRefinement {
@@ -167,6 +201,8 @@ public:
     // Every region one crosses takes the 3 x 3 check: about 15 % more time on the seed scene,
     // the same regions and values. A shadow's outline costs at most its kink fraction.
     double suspect(const Rect& r) const {
+        if (m_shadow.spheres_overlap && cones_meet_differently(m_si, r, m_shadow.spheres))
+            return kCheckRegion;
         if (!m_events.crosses(m_si, r)) return 0.0;
         if (!m_pi.polygon) return kCheckRegion;
         return m_shadow.flats.empty() ? kSphereKinkFraction : kFlatKinkFraction;
@@ -212,6 +248,11 @@ public:
                     through += point_to_polygon_hidden_by_disk(x, nrm / da, v.data(), 4, rim).value;
                 return da * through;
             }
+            if (shadow.spheres_overlap)
+                return da * std::max(0.0, point_to_polygon(x, nrm / da, v.data(), 4, nullptr) -
+                                              point_to_polygon_blocked_by_balls(
+                                                  x, nrm / da, v.data(), 4, shadow.spheres.data(),
+                                                  static_cast<int>(shadow.spheres.size())));
             return da * (point_to_polygon(x, nrm / da, v.data(), 4, b) -
                          hidden_past_first_ball(x, nrm / da, v, shadow));
         };
@@ -235,6 +276,27 @@ public:
         return hidden;
     }
 
+    // What the occluders hide of the polygon vj from x (unit normal `unit`): the shadowed
+    // path's integrand per unit area of patch i.
+    static double hidden_at(const Vec3& x, const Vec3& unit, const std::array<Vec3, 4>& vj,
+                            const PlanarReceiver& shadow) {
+        if (shadow.disk) return point_to_polygon_hidden_by_disk(x, unit, vj.data(), 4, *shadow.disk).value;
+        if (shadow.column) return point_to_polygon_hidden_by_column(x, unit, vj.data(), 4, *shadow.column);
+        if (!shadow.apart.empty()) {  // shadows apart: their parts add up
+            double hidden = 0.0;
+            for (const ShadowOccluder& o : shadow.apart) hidden += hidden_by(o, x, unit, vj);
+            return hidden;
+        }
+        if (shadow.spheres.empty()) return point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
+        if (shadow.spheres_overlap)
+            return point_to_polygon_blocked_by_balls(x, unit, vj.data(), 4, shadow.spheres.data(),
+                                                     static_cast<int>(shadow.spheres.size()));
+        double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
+        for (const BoundingSphere& ball : shadow.spheres)
+            blocked += point_to_polygon_blocked(x, unit, vj.data(), 4, ball);
+        return blocked;
+    }
+
     // A_i F_ij for two polygons with a sphere or flat quads between them: the unblocked
     // exchange in closed form (the contour integral) minus the shadow, integrated over patch i
     // with the shadow's inner integral in closed form (a cap of directions for a sphere,
@@ -254,22 +316,7 @@ public:
         auto g = [&](double s, double t) {
             Vec3 x, nrm;
             si.point_and_normal(s, t, &x, &nrm);
-            const double da = glm::length(nrm);
-            if (shadow.disk)
-                return da * point_to_polygon_hidden_by_disk(x, unit, vj.data(), 4, *shadow.disk).value;
-            if (shadow.column)
-                return da * point_to_polygon_hidden_by_column(x, unit, vj.data(), 4, *shadow.column);
-            if (!shadow.apart.empty()) {  // shadows apart: their parts add up
-                double hidden = 0.0;
-                for (const ShadowOccluder& o : shadow.apart) hidden += hidden_by(o, x, unit, vj);
-                return da * hidden;
-            }
-            if (shadow.spheres.empty())
-                return da * point_to_polygon_hidden(x, unit, vj.data(), 4, shadow.flats);
-            double blocked = 0.0;  // the balls' shadows never overlap: their parts add up
-            for (const BoundingSphere& ball : shadow.spheres)
-                blocked += point_to_polygon_blocked(x, unit, vj.data(), 4, ball);
-            return da * blocked;
+            return glm::length(nrm) * hidden_at(x, unit, vj, shadow);
         };
         auto reaches = [&](const Rect& r) { return segments_may_meet(si, r, vj, shadow); };
         // A shadow's edge makes the integrand only once differentiable where it sweeps across
@@ -310,6 +357,7 @@ public:
         // (measured: nodes saw 3e-13 of 1.1e-9, seed scene at 1e-10), so its value says nothing
         // about its error: the 3 x 3 split looks too.
         auto suspect = [&](const Rect& r, double fine) {
+            if (shadow.spheres_overlap && cones_meet_differently(si, r, shadow.spheres)) return kCheckRegion;
             if (!events.crosses(si, r)) return 0.0;
             if (std::abs(fine) <= region_tol && reaches(r)) return kCheckRegion;
             return fraction;
@@ -568,7 +616,7 @@ std::optional<PlanarReceiver> planar_receiver(const SceneGeometry& g, int i, int
                        : glm::length(pi.bound.center - sph->center) <= sph->radius + pi.bound.radius)
             return std::nullopt;
         for (const BoundingSphere& other : how.spheres)
-            if (!shadows_apart(pi.bound, other, *sph)) return std::nullopt;
+            how.spheres_overlap = how.spheres_overlap || !shadows_apart(pi.bound, other, *sph);
         how.spheres.push_back(*sph);
     }
     return how;

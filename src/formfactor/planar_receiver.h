@@ -1,9 +1,10 @@
 #pragma once
 // Form factors toward a planar patch (a polygon) with the inner integral in closed form: the
 // point-to-polygon formula (Lambert's), minus what occluders hide. The occluders this path
-// accepts are whole balls (formfactor/point_polygon.h), disks or annuli (disk_shadow.h), round
-// tubes or cones (tube_shadow.h) and spherical caps (cap_shadow.h) whose shadows never overlap as
-// seen from the source patch, so that the parts they hide add up; a few flat convex quads (their
+// accepts are whole balls, their shadows overlapping or not (formfactor/point_polygon.h); disks
+// or annuli (disk_shadow.h), round tubes or cones (tube_shadow.h) and spherical caps
+// (cap_shadow.h) whose shadows never overlap as seen from the source patch, so that the parts
+// they hide add up; a few flat convex quads (their
 // shadows on the polygon are polygons); one column spanning the pair (column_shadow.h); and,
 // from the inside of a tube or a cap, its open ends. Between two polygons with occluders the
 // unblocked exchange is the contour integral and only the shadow is integrated over the source
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "formfactor/cubature.h"
+#include "formfactor/point_polygon.h"
 #include "formfactor/shadow_occluder.h"
 #include "geometry/scene_geometry.h"
 #include "util/gauss_legendre.h"
@@ -21,10 +23,13 @@
 namespace radiosa {
 
 // What may block the pair on this path (one of the fields is set; none when nothing can):
-// balls whose shadows never overlap as seen from patch i (so the parts they hide add up), a few
+// balls (their shadows added up when they never overlap as seen from patch i), a few
 // flat quads, or one of the cases below.
 struct PlanarReceiver {
     std::vector<BoundingSphere> spheres;
+    // The balls' shadows may overlap as seen from patch i: what they hide is taken together
+    // (point_to_polygon_blocked_by_balls), not added up.
+    bool spheres_overlap = false;
     std::vector<std::array<Vec3, 4>> flats;  // each occluder's outline
     // One flat disk or annulus (both sides of a two-sided one are the same disk), wholly in
     // front of both patches' planes: its shadow is in closed form (formfactor/disk_shadow.h).
@@ -46,11 +51,11 @@ struct PlanarReceiver {
 };
 
 // At most this many balls between a pair.
-inline constexpr std::size_t kMaxShadowBalls = 8;
+inline constexpr std::size_t kMaxShadowBalls = kMaxBallUnion;
 
 // Whether F_ij can take this path: j must be planar and nothing may block the pair except balls
-// that lie wholly between patch i and j's plane, whose shadows from patch i never overlap (at
-// most kMaxShadowBalls), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
+// that lie wholly between patch i and j's plane, patch i outside them (at most kMaxShadowBalls;
+// their shadows may overlap), or at most kMaxFlatOccluders planar convex quads, or one whole flat disk
 // or annulus lying wholly in front of both patches (patch i planar too: a polygon or a disk's),
 // or one whole round tube between two polygons (spanning them, or in front of both), or one
 // whole spherical cap in front of both, or several of those (balls, disks, tubes, caps) in front

@@ -272,6 +272,127 @@ double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int
 
 namespace {
 
+// A cone of directions from x around the unit vector d, of half-angle alpha < pi / 2.
+struct Cone {
+    Vec3 d;
+    double sin_a, cos_a;
+    bool contains(const Vec3& w) const { return glm::dot(w, d) > cos_a; }
+};
+
+// The parts of edge k's arc (angles phi in [0, gamma) from w[k] toward w[k + 1]) inside some
+// cone: their union's length.
+double edge_inside_cones(const SphericalPolygon& sp, int k, const std::array<Cone, kMaxBallUnion>& cones,
+                         int nk) {
+    const double gamma = sp.arc[k].gamma;
+    if (!(gamma > 0.0)) return 0.0;
+    const Vec3& a = sp.w[k];
+    const Vec3& b = sp.w[next_in_cycle(k, sp.nc)];
+    const Vec3 wv = unit_or_zero(b - glm::dot(b, a) * a);
+    std::array<std::pair<double, double>, 3 * kMaxBallUnion> spans;
+    int ns = 0;
+    for (int c = 0; c < nk; ++c) {
+        const double p = glm::dot(a, cones[c].d), q = glm::dot(wv, cones[c].d);
+        const double amp = std::sqrt(p * p + q * q);
+        if (amp <= cones[c].cos_a) continue;
+        const double phi0 = std::atan2(q, p), delta = std::acos(std::min(1.0, cones[c].cos_a / amp));
+        for (double shift : {-2 * kPi, 0.0, 2 * kPi}) {
+            const double lo = std::max(0.0, phi0 - delta + shift), hi = std::min(gamma, phi0 + delta + shift);
+            if (hi > lo) spans[ns++] = {lo, hi};
+        }
+    }
+    std::sort(spans.begin(), spans.begin() + ns);
+    double len = 0.0, end = 0.0;
+    for (int k2 = 0; k2 < ns; ++k2) {
+        const double lo = std::max(spans[k2].first, end);
+        if (spans[k2].second > lo) len += spans[k2].second - lo;
+        end = std::max(end, spans[k2].second);
+    }
+    return len;
+}
+
+// Lambert's integral along the arcs of cone c's circle inside the polygon and outside every other
+// cone: the circle w(t) = cos_a d + sin_a (cos t e1 + sin t e2) is cut where it crosses an edge's
+// great circle or another cone's circle, and each piece is kept or not by its middle.
+double circle_outside_others(const SphericalPolygon& sp, const Vec3& n,
+                             const std::array<Cone, kMaxBallUnion>& cones, int nk, int c) {
+    const Cone& o = cones[c];
+    const Vec3 e1 =
+        unit_or_zero(std::abs(o.d.x) < 0.9 ? glm::cross(o.d, Vec3(1, 0, 0)) : glm::cross(o.d, Vec3(0, 1, 0)));
+    const Vec3 e2 = glm::cross(o.d, e1);
+    std::array<double, 2 * (kMaxVerts + kMaxBallUnion)> cuts;
+    int ncuts = 0;
+    // w(t) . m = rhs for a unit m: sin_a (b1 cos t + b2 sin t) = rhs - cos_a (d . m).
+    const auto cut_by = [&](const Vec3& m, double rhs) {
+        const double a0 = glm::dot(o.d, m), b1 = glm::dot(e1, m), b2 = glm::dot(e2, m);
+        const double amp = std::sqrt(b1 * b1 + b2 * b2) * o.sin_a;
+        const double r = rhs - o.cos_a * a0;
+        if (!(amp > std::abs(r))) return;
+        const double tk = std::atan2(b2, b1), beta = std::acos(r / amp);
+        cuts[ncuts++] = tk - beta;
+        cuts[ncuts++] = tk + beta;
+    };
+    for (int k = 0; k < sp.nc; ++k) cut_by(sp.u[k], 0.0);
+    for (int k = 0; k < nk; ++k)
+        if (k != c) cut_by(cones[k].d, cones[k].cos_a);
+    const auto kept = [&](double t) {
+        const Vec3 w = o.cos_a * o.d + o.sin_a * (std::cos(t) * e1 + std::sin(t) * e2);
+        for (int k = 0; k < sp.nc; ++k)
+            if (glm::dot(w, sp.u[k]) < 0.0) return false;
+        for (int k = 0; k < nk; ++k)
+            if (k != c && cones[k].contains(w)) return false;
+        return true;
+    };
+    // int n . (w x dw) over t in [t1, t2].
+    const auto piece = [&](double t1, double t2) {
+        const double c1 = std::cos(t1), s1 = std::sin(t1), c2 = std::cos(t2), s2 = std::sin(t2);
+        const Vec3 integral =
+            o.cos_a * o.sin_a * ((c2 - c1) * e2 - (s2 - s1) * e1) + o.sin_a * o.sin_a * (t2 - t1) * o.d;
+        return glm::dot(n, integral);
+    };
+    if (ncuts == 0) return kept(0.0) ? 2 * kPi * o.sin_a * o.sin_a * glm::dot(n, o.d) : 0.0;
+    for (int k = 0; k < ncuts; ++k) cuts[k] -= 2 * kPi * std::floor(cuts[k] / (2 * kPi));
+    std::sort(cuts.begin(), cuts.begin() + ncuts);
+    double sum = 0.0;
+    for (int k = 0; k < ncuts; ++k) {
+        const double t1 = cuts[k], t2 = k + 1 < ncuts ? cuts[k + 1] : cuts[0] + 2 * kPi;
+        if (t2 > t1 && kept(0.5 * (t1 + t2))) sum += piece(t1, t2);
+    }
+    return sum;
+}
+
+}  // namespace
+
+double point_to_polygon_blocked_by_balls(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                         const BoundingSphere* balls, int ball_count) {
+    if (ball_count == 1) return point_to_polygon_blocked(x, n, v, count, balls[0]);
+    if (ball_count < 1 || ball_count > static_cast<int>(kMaxBallUnion) || count < 3 || count > 16) return 0.0;
+    SphericalPolygon sp;
+    if (!project(x, n, v, count, &sp)) return 0.0;
+    // The cones that reach into the polygon (a cone wholly outside one edge's great circle
+    // cannot).
+    std::array<Cone, kMaxBallUnion> cones;
+    int nk = 0, last = -1;
+    for (int b = 0; b < ball_count; ++b) {
+        const Vec3 to_c = balls[b].center - x;
+        const double dist = glm::length(to_c);
+        if (!(dist > balls[b].radius)) continue;
+        const double sin_a = balls[b].radius / dist;
+        const Cone cone{to_c / dist, sin_a, std::sqrt(std::max(0.0, 1.0 - sin_a * sin_a))};
+        bool reaches = true;
+        for (int k = 0; k < sp.nc && reaches; ++k) reaches = glm::dot(cone.d, sp.u[k]) > -sin_a;
+        if (reaches) cones[nk++] = cone, last = b;
+    }
+    if (nk == 0) return 0.0;
+    if (nk == 1) return point_to_polygon_blocked(x, n, v, count, balls[last]);
+    measure(n, &sp);
+    double blocked = 0.0;
+    for (int k = 0; k < sp.nc; ++k) blocked += edge_inside_cones(sp, k, cones, nk) * glm::dot(n, sp.u[k]);
+    for (int c = 0; c < nk; ++c) blocked += circle_outside_others(sp, n, cones, nk, c);
+    return std::clamp(blocked / (2.0 * kPi), 0.0, std::max(0.0, sp.whole / (2.0 * kPi)));
+}
+
+namespace {
+
 // A convex polygon being cut, with room for the vertices cuts add.
 using Poly = PolygonBuffer<16>;
 

@@ -171,8 +171,6 @@ TEST(PointPolygon, CapArcWrappingPastPiMatchesItsMirrorImage) {
     }
 }
 
-}  // namespace radiosa
-
 namespace radiosa {
 
 namespace {
@@ -216,4 +214,103 @@ TEST(PointPolygonHidden, ShadowsAreCentralProjectionsAndUnionsCountOnce) {
     EXPECT_GT(point_to_polygon_hidden(x, n, target.data(), 4, {upper}), 0.0);
 }
 
+}  // namespace radiosa
+
+namespace {
+// (1/pi) times the integral of n . w over the directions w from x that reach the polygon
+// (a rectangle in z = 1 facing down, |X| <= 1, |Y| <= 0.5) through some ball: each ball's cone
+// in its own polar angles (rho, t), counting a direction only in the first cone that holds it,
+// by the midpoint rule on nr x 2nr cells.
+double hidden_by_balls_brute(const Vec3& x, const Vec3& n, const std::vector<BoundingSphere>& balls, int nr) {
+    double sum = 0.0;
+    for (std::size_t c = 0; c < balls.size(); ++c) {
+        const Vec3 to_c = balls[c].center - x;
+        const double dist = glm::length(to_c), alpha = std::asin(balls[c].radius / dist);
+        const Vec3 d = to_c / dist;
+        const Vec3 e1 = glm::normalize(glm::cross(d, Vec3(1, 0, 0))), e2 = glm::cross(d, e1);
+        const double hr = alpha / nr, ht = 2 * kPi / (2 * nr);
+        for (int i = 0; i < nr; ++i) {
+            const double rho = (i + 0.5) * hr, sr = std::sin(rho), cr = std::cos(rho);
+            for (int k = 0; k < 2 * nr; ++k) {
+                const double t = (k + 0.5) * ht;
+                const Vec3 w = cr * d + sr * (std::cos(t) * e1 + std::sin(t) * e2);
+                if (!(glm::dot(n, w) > 0.0) || !(w.z > 0.0)) continue;
+                const Vec3 p = x + w * ((1.0 - x.z) / w.z);
+                if (std::abs(p.x) > 1.0 || std::abs(p.y) > 0.5) continue;
+                bool earlier = false;
+                for (std::size_t j = 0; j < c && !earlier; ++j) {
+                    const Vec3 oj = balls[j].center - x;
+                    const double lj = glm::length(oj);
+                    earlier =
+                        glm::dot(w, oj / lj) > std::sqrt(1.0 - balls[j].radius * balls[j].radius / (lj * lj));
+                }
+                if (!earlier) sum += glm::dot(n, w) * sr * hr * ht;
+            }
+        }
+    }
+    return sum / kPi;
+}
+}  // namespace
+
+TEST(PointPolygonBalls, OneBallApartOrHiddenBehindAnotherAreTheirKnownParts) {
+    const Vec3 v[4] = {{-1, -0.5, 1}, {-1, 0.5, 1}, {1, 0.5, 1}, {1, -0.5, 1}};
+    const Vec3 x(0.1, -0.05, 0.0), n(0.0, 0.0, 1.0);
+    const BoundingSphere big{{0.2, 0.0, 0.4}, 0.2}, far{{-0.5, 0.1, 0.5}, 0.2};
+    const BoundingSphere small{x + 1.6 * (big.center - x) + Vec3(0.05, 0.0, 0.0), 0.05};
+    // One ball: the single-ball closed form, to the bit.
+    EXPECT_EQ(point_to_polygon_blocked_by_balls(x, n, v, 4, &big, 1),
+              point_to_polygon_blocked(x, n, v, 4, big));
+    // A ball behind another, inside its cone, adds nothing.
+    const auto half_angle = [&](const BoundingSphere& b) {
+        return std::asin(b.radius / glm::length(b.center - x));
+    };
+    ASSERT_LT(std::acos(glm::dot(glm::normalize(small.center - x), glm::normalize(big.center - x))) +
+                  half_angle(small),
+              half_angle(big) - 0.1);
+    const BoundingSphere nested[2] = {big, small};
+    EXPECT_NEAR(point_to_polygon_blocked_by_balls(x, n, v, 4, nested, 2),
+                point_to_polygon_blocked(x, n, v, 4, big), 1e-15);
+    const BoundingSphere nested_other_order[2] = {small, big};
+    EXPECT_NEAR(point_to_polygon_blocked_by_balls(x, n, v, 4, nested_other_order, 2),
+                point_to_polygon_blocked(x, n, v, 4, big), 1e-15);
+    // Shadows apart add up.
+    const BoundingSphere apart[2] = {big, far};
+    const double sum = point_to_polygon_blocked(x, n, v, 4, big) + point_to_polygon_blocked(x, n, v, 4, far);
+    ASSERT_GT(point_to_polygon_blocked(x, n, v, 4, far), 0.01);
+    EXPECT_NEAR(point_to_polygon_blocked_by_balls(x, n, v, 4, apart, 2), sum, 1e-15);
+}
+
+TEST(PointPolygonBalls, OverlappingShadowsCountOnceAgainstDirectIntegration) {
+    // Rectangle in z = 1 facing down; balls between the point and it whose cones overlap one
+    // another, cross the rectangle's edges and (tilted normal) its horizon.
+    const Vec3 v[4] = {{-1, -0.5, 1}, {-1, 0.5, 1}, {1, 0.5, 1}, {1, -0.5, 1}};
+    struct Case {
+        Vec3 x, n;
+        std::vector<BoundingSphere> balls;
+    };
+    const std::vector<Case> cases = {
+        {{0, 0, 0}, {0, 0, 1}, {{{0.1, 0.0, 0.5}, 0.15}, {{0.25, 0.05, 0.45}, 0.12}}},
+        {{0.2, 0.1, 0},
+         {0, 0, 1},
+         {{{0.6, 0.3, 0.5}, 0.15}, {{0.7, 0.1, 0.6}, 0.2}, {{0.45, 0.3, 0.35}, 0.1}}},
+        {{-0.3, 0, 0},
+         glm::normalize(Vec3(0.5, 0, 1)),
+         {{{-0.6, 0.0, 0.4}, 0.2}, {{-0.45, 0.1, 0.5}, 0.15}, {{-0.5, -0.2, 0.5}, 0.12}}},
+        {{0, 0, 0.2},
+         glm::normalize(Vec3(0.3, -0.6, 1)),
+         {{{0.0, -0.3, 0.5}, 0.15},
+          {{0.1, -0.35, 0.6}, 0.15},
+          {{0.05, -0.1, 0.55}, 0.1},
+          {{0.3, -0.4, 0.6}, 0.1}}},
+    };
+    for (const Case& c : cases) {
+        const double f = point_to_polygon_blocked_by_balls(c.x, c.n, v, 4, c.balls.data(),
+                                                           static_cast<int>(c.balls.size()));
+        double single_sum = 0.0;
+        for (const BoundingSphere& b : c.balls) single_sum += point_to_polygon_blocked(c.x, c.n, v, 4, b);
+        const double brute = hidden_by_balls_brute(c.x, c.n, c.balls, 1200);
+        EXPECT_NEAR(f, brute, 2e-5) << c.balls.size();
+        EXPECT_LT(f, single_sum - 1e-3);  // the shadows do overlap: their sum counts some twice
+    }
+}
 }  // namespace radiosa
