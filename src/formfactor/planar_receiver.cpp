@@ -533,7 +533,7 @@ std::optional<std::vector<ShadowOccluder>> apart_occluders(const SceneGeometry& 
                                                            const std::vector<int>& blockers) {
     const Patch &pi = g.patch(i), &pj = g.patch(j);
     const auto source = g.surface(pi.surface).plane();
-    if (!pi.polygon || !pj.polygon || !source || blockers.size() > kMaxShadowBalls) return std::nullopt;
+    if (!pi.polygon || !pj.polygon || !source || blockers.size() > kMaxApartOccluders) return std::nullopt;
     for (int k : blockers)
         if (k == pi.surface || k == pj.surface) return std::nullopt;
     auto out = occluders_apart(g, blockers, pi.bound, receiver, *source);

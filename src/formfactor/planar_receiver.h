@@ -50,8 +50,10 @@ struct PlanarReceiver {
     std::vector<ShadowOccluder> apart;
 };
 
-// At most this many balls between a pair.
+// At most this many balls between a pair (their union: point_to_polygon_blocked_by_balls), and at
+// most this many mixed occluders whose shadows never overlap (`apart`).
 inline constexpr std::size_t kMaxShadowBalls = kMaxBallUnion;
+inline constexpr std::size_t kMaxApartOccluders = 8;
 
 // Whether F_ij can take this path: j must be planar and nothing may block the pair except balls
 // that lie wholly between patch i and j's plane, patch i outside them (at most kMaxShadowBalls;
