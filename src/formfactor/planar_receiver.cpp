@@ -98,38 +98,61 @@ void add_events(EventSet* events, const std::array<Vec3, 4>& v, const ShadowOccl
     if (const auto* c = std::get_if<SphericalCap>(&o)) events->add_cap(v, *c);
 }
 
-// Whether some two balls' cones of directions meet as seen from one corner of the region and not
-// from another. Where two cones start to overlap, what they hide together bends (a 3/2-power
-// kink in x, the lens between their circles) along a surface that no event marks; such a region
-// takes the 3 x 3 check. (A change of overlap between the corners and back, inside a small
-// region, is not seen: the cones' gap varies smoothly with x.)
-bool cones_meet_differently(const Surface& si, const Rect& r, const std::vector<BoundingSphere>& balls) {
-    // Each ball's direction u and half-angle alpha from each corner; two cones meet when the angle
-    // between their axes is below alpha_a + alpha_b: u_a . u_b > cos(alpha_a + alpha_b).
+// Whether the union of the balls' cones changes its shape across the region, where no event marks
+// it: seen from the region's corners, some two cones meet from one and not from another (where two
+// cones start to overlap, what they hide together bends: a 3/2-power kink in x, the lens between
+// their circles), or a point where two circles cross (a corner of the union's outline) lies inside
+// the polygon v from one corner and outside from another (an edge of v passes it, and the hidden
+// part's slope bends). Such a region takes the 3 x 3 check. (A change between the corners and
+// back, inside a small region, is not seen: the cones and the crossings move smoothly with x.)
+bool union_changes_shape(const Surface& si, const Rect& r, const std::vector<BoundingSphere>& balls,
+                         const std::array<Vec3, 4>& v) {
     struct Seen {
         Vec3 u;
         double sin_a, cos_a;
     };
-    std::array<std::array<Seen, kMaxShadowBalls>, 4> seen;
+    const std::size_t nb = std::min(balls.size(), kMaxShadowBalls);
+    std::array<Seen, kMaxShadowBalls> seen;
+    // Per corner, one bit per pair of balls and per crossing: meeting, and each crossing inside v.
+    std::array<std::vector<bool>, 4> shape;
     const std::array<Vec3, 4> corners = {si.point(r.s0, r.t0), si.point(r.s1, r.t0), si.point(r.s1, r.t1),
                                          si.point(r.s0, r.t1)};
-    const std::size_t nb = std::min(balls.size(), kMaxShadowBalls);
-    for (std::size_t k = 0; k < 4; ++k)
+    for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3& x = corners[k];
         for (std::size_t b = 0; b < nb; ++b) {
-            const Vec3 d = balls[b].center - corners[k];
+            const Vec3 d = balls[b].center - x;
             const double l = glm::length(d), sa = std::min(1.0, balls[b].radius / l);
-            seen[k][b] = {d / l, sa, std::sqrt(1.0 - sa * sa)};
+            seen[b] = {d / l, sa, std::sqrt(1.0 - sa * sa)};
         }
-    const auto meet = [&](std::size_t k, std::size_t a, std::size_t b) {
-        const Seen &p = seen[k][a], &q = seen[k][b];
-        return glm::dot(p.u, q.u) > p.cos_a * q.cos_a - p.sin_a * q.sin_a;
-    };
-    for (std::size_t a = 0; a < nb; ++a)
-        for (std::size_t b = a + 1; b < nb; ++b) {
-            const bool first = meet(0, a, b);
-            if (meet(1, a, b) != first || meet(2, a, b) != first || meet(3, a, b) != first) return true;
-        }
-    return false;
+        // v's edges' planes through x: a direction toward v (not away from it) on one side of all four.
+        std::array<Vec3, 4> m;
+        for (std::size_t e = 0; e < 4; ++e) m[e] = glm::cross(v[e] - x, v[(e + 1) % 4] - x);
+        const Vec3 toward = 0.25 * (v[0] + v[1] + v[2] + v[3]) - x;
+        const auto inside = [&](const Vec3& w) {
+            int pos = 0, neg = 0;
+            for (const Vec3& me : m) (glm::dot(w, me) >= 0.0 ? pos : neg)++;
+            return (pos == 4 || neg == 4) && glm::dot(w, toward) > 0.0;
+        };
+        for (std::size_t a = 0; a < nb; ++a)
+            for (std::size_t b = a + 1; b < nb; ++b) {
+                const Seen &p = seen[a], &q = seen[b];
+                const double dd = glm::dot(p.u, q.u);
+                shape[k].push_back(dd > p.cos_a * q.cos_a - p.sin_a * q.sin_a);
+                // The circles w . u_a = cos_a, w . u_b = cos_b cross at w = alpha u_a + beta u_b
+                // +- gamma (u_a x u_b), where |w| = 1 leaves gamma real.
+                const double det = 1.0 - dd * dd;
+                double alpha = 0.0, beta = 0.0, g2 = -1.0;
+                if (det > 1e-12) {
+                    alpha = (p.cos_a - dd * q.cos_a) / det, beta = (q.cos_a - dd * p.cos_a) / det;
+                    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * dd) / det;
+                }
+                const Vec3 base = alpha * p.u + beta * q.u,
+                           side = std::sqrt(std::max(0.0, g2)) * glm::cross(p.u, q.u);
+                shape[k].push_back(g2 > 0.0 && inside(base + side));
+                shape[k].push_back(g2 > 0.0 && inside(base - side));
+            }
+    }
+    return shape[1] != shape[0] || shape[2] != shape[0] || shape[3] != shape[0];
 }
 
 // Where the semi path's cubature over patch i splits a region, and which regions take the kink
@@ -201,7 +224,7 @@ public:
     // Every region one crosses takes the 3 x 3 check: about 15 % more time on the seed scene,
     // the same regions and values. A shadow's outline costs at most its kink fraction.
     double suspect(const Rect& r) const {
-        if (m_shadow.spheres_overlap && cones_meet_differently(m_si, r, m_shadow.spheres))
+        if (m_shadow.spheres_overlap && union_changes_shape(m_si, r, m_shadow.spheres, m_v))
             return kCheckRegion;
         if (!m_events.crosses(m_si, r)) return 0.0;
         if (!m_pi.polygon) return kCheckRegion;
@@ -357,7 +380,7 @@ public:
         // (measured: nodes saw 3e-13 of 1.1e-9, seed scene at 1e-10), so its value says nothing
         // about its error: the 3 x 3 split looks too.
         auto suspect = [&](const Rect& r, double fine) {
-            if (shadow.spheres_overlap && cones_meet_differently(si, r, shadow.spheres)) return kCheckRegion;
+            if (shadow.spheres_overlap && union_changes_shape(si, r, shadow.spheres, vj)) return kCheckRegion;
             if (!events.crosses(si, r)) return 0.0;
             if (std::abs(fine) <= region_tol && reaches(r)) return kCheckRegion;
             return fraction;
