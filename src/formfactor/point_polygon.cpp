@@ -373,6 +373,11 @@ double point_to_polygon_blocked_by_balls(const Vec3& x, const Vec3& n, const Vec
     std::array<Cone, kMaxBallUnion> cones;
     int nk = 0, last = -1;
     for (int b = 0; b < ball_count; ++b) {
+        // The same ball twice (the two sides of a two-sided sphere) is one cone.
+        bool again = false;
+        for (int e = 0; e < b && !again; ++e)
+            again = balls[e].center == balls[b].center && balls[e].radius == balls[b].radius;
+        if (again) continue;
         const Vec3 to_c = balls[b].center - x;
         const double dist = glm::length(to_c);
         if (!(dist > balls[b].radius)) continue;

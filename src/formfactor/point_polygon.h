@@ -30,7 +30,8 @@ double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int
 // the balls' cones of directions, whose boundary is the arcs of each cone's circle that lie inside
 // the polygon and outside every other cone, and the parts of the polygon's edges inside some
 // cone. Each ball must lie wholly between x and the polygon's plane, x outside it (as for
-// point_to_polygon's blocker). One ball is point_to_polygon_blocked to the bit. In [0, unblocked].
+// point_to_polygon's blocker); the same ball given twice counts once. One ball is
+// point_to_polygon_blocked to the bit. In [0, unblocked].
 inline constexpr std::size_t kMaxBallUnion = 32;
 double point_to_polygon_blocked_by_balls(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                                          const BoundingSphere* balls, int ball_count);

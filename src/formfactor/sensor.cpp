@@ -132,7 +132,8 @@ std::optional<ContourValue> by_contour(const SceneGeometry& g, const Vec3& x, co
     return std::nullopt;
 }
 
-// F(dA -> j) in closed form for a polygon patch that only one ball, or occluders with closed-form
+// F(dA -> j) in closed form for a polygon patch that only one ball, or only balls (their shadows
+// may overlap), or occluders with closed-form
 // shadows that never overlap as seen from x (balls, disks, tubes or cones, caps: either side or
 // both of a two-sided one), can hide: Lambert's formula minus each one's cone of directions cut
 // to the polygon (formfactor/shadow_occluder.h). The occluders must lie wholly on j's front
@@ -152,6 +153,26 @@ std::optional<ContourValue> by_shadow(const SceneGeometry& g, const Vec3& x, con
             !(glm::length(x - ball->center) > ball->radius + margin))
             return std::nullopt;
         c.value = point_to_polygon(x, n, v.data(), 4, &*ball);
+        return c;
+    }
+    // Whole balls alone, each wholly on j's front side and x outside it: what they hide together,
+    // their shadows overlapping or not (point_to_polygon_blocked_by_balls).
+    std::vector<BoundingSphere> balls;
+    for (int k : blockers) {
+        const Surface& s = g.surface(k);
+        const auto b = s.sphere();
+        if (!b || !s.whole_sphere() || blockers.size() > kMaxBallUnion ||
+            !(plane->signed_distance(b->center) > b->radius + margin) ||
+            !(glm::length(x - b->center) > b->radius + margin)) {
+            balls.clear();
+            break;
+        }
+        balls.push_back(*b);
+    }
+    if (!balls.empty()) {
+        c.value = std::max(0.0, point_to_polygon(x, n, v.data(), 4, nullptr) -
+                                    point_to_polygon_blocked_by_balls(x, n, v.data(), 4, balls.data(),
+                                                                      static_cast<int>(balls.size())));
         return c;
     }
     // Whole balls, disks, tubes or cones and caps whose shadows never overlap as seen from x

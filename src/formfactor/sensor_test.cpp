@@ -127,7 +127,8 @@ TEST(Sensor, UnderAPlateOrABallTheCeilingLosesTheirConeInClosedForm) {
     // A sensor at the origin facing up, a ceiling 4 x 4 at height 2 split 3 x 3, and between
     // them a two-sided plate of radius 0.4 at height 0.7 (it hides r^2 / (r^2 + h^2)) or a ball
     // of radius 0.3 at height 0.8 (it hides sin^2 of its angular radius, (R / L)^2), a dome, a
-    // lamp shade, or a ball and a plate apart: every ceiling patch in closed form, the sum exact.
+    // lamp shade, a ball and a plate apart, or two balls whose shadows overlap: every ceiling
+    // patch in closed form, the sum exact.
     const std::string ceiling =
         "  - {name: ceiling, type: quad, corners: [[-2, -2, 2], [-2, 2, 2], [2, 2, 2], [2, -2, 2]], patches: "
         "[3, 3],"
@@ -165,7 +166,22 @@ TEST(Sensor, UnderAPlateOrABallTheCeilingLosesTheirConeInClosedForm) {
          "[1, 1], reflectance: [0, 0, 0], two_sided: true}\n",
          (1.0 / std::sqrt(1.25)) * 0.0225 / 1.25 +
              0.5 * (1.0 - (1.0 + 0.25 - 0.0225) / std::sqrt((1.0 + 0.25 + 0.0225) * (1.0 + 0.25 + 0.0225) -
-                                                            4.0 * 0.25 * 0.0225))}};
+                                                            4.0 * 0.25 * 0.0225))},
+        // Two balls on the axis whose shadows overlap, the wider cone holding the other: a ball
+        // of radius 0.3 at height 0.8 before one of 0.2 at 1.4 hides (0.3 / 0.8)^2, a ball of
+        // 0.1 at 0.5 before one of 0.4 at 1.2 hides (0.4 / 1.2)^2 (their union's closed form).
+        {"  - {name: near, type: sphere, center: [0, 0, 0.8], radius: 0.3, patches: [2, 2], reflectance: [0, "
+         "0, 0]}\n  - {name: far, type: sphere, center: [0, 0, 1.4], radius: 0.2, patches: [2, 2], "
+         "reflectance: [0, 0, 0]}\n",
+         0.09 / 0.64},
+        {"  - {name: near, type: sphere, center: [0, 0, 0.5], radius: 0.1, patches: [2, 2], reflectance: [0, "
+         "0, 0]}\n  - {name: far, type: sphere, center: [0, 0, 1.2], radius: 0.4, patches: [2, 2], "
+         "reflectance: [0, 0, 0]}\n",
+         1.0 / 9.0},
+        // A two-sided ball: its two sides are one ball, counted once.
+        {"  - {name: ball, type: sphere, center: [0, 0, 0.8], radius: 0.3, patches: [2, 2], reflectance: [0, "
+         "0, 0], two_sided: true}\n",
+         0.09 / 0.64}};
     for (const Case& c : cases) {
         const Scene scene = sensor_scene(ceiling + c.occluder);
         const SensorFactors s = sensor_factors(SceneGeometry(scene), Vec3(0), Vec3(0, 0, 1), 1e-10, true);
