@@ -107,52 +107,59 @@ void add_events(EventSet* events, const std::array<Vec3, 4>& v, const ShadowOccl
 // back, inside a small region, is not seen: the cones and the crossings move smoothly with x.)
 bool union_changes_shape(const Surface& si, const Rect& r, const std::vector<BoundingSphere>& balls,
                          const std::array<Vec3, 4>& v) {
+    // From each corner x: each ball's direction u and half-angle, and v's edges' planes through x
+    // (a direction toward v, not away from it, lies on one side of all four).
     struct Seen {
         Vec3 u;
         double sin_a, cos_a;
     };
+    struct Corner {
+        std::array<Seen, kMaxShadowBalls> seen;
+        std::array<Vec3, 4> m;
+        Vec3 toward;
+        bool inside(const Vec3& w) const {
+            int pos = 0;
+            for (const Vec3& me : m) pos += glm::dot(w, me) >= 0.0;
+            return (pos == 4 || pos == 0) && glm::dot(w, toward) > 0.0;
+        }
+    };
     const std::size_t nb = std::min(balls.size(), kMaxShadowBalls);
-    std::array<Seen, kMaxShadowBalls> seen;
-    // Per corner, one bit per pair of balls and per crossing: meeting, and each crossing inside v.
-    std::array<std::vector<bool>, 4> shape;
-    const std::array<Vec3, 4> corners = {si.point(r.s0, r.t0), si.point(r.s1, r.t0), si.point(r.s1, r.t1),
-                                         si.point(r.s0, r.t1)};
+    std::array<Corner, 4> corners;
+    const std::array<Vec3, 4> xs = {si.point(r.s0, r.t0), si.point(r.s1, r.t0), si.point(r.s1, r.t1),
+                                    si.point(r.s0, r.t1)};
     for (std::size_t k = 0; k < 4; ++k) {
-        const Vec3& x = corners[k];
+        const Vec3& x = xs[k];
         for (std::size_t b = 0; b < nb; ++b) {
             const Vec3 d = balls[b].center - x;
             const double l = glm::length(d), sa = std::min(1.0, balls[b].radius / l);
-            seen[b] = {d / l, sa, std::sqrt(1.0 - sa * sa)};
+            corners[k].seen[b] = {d / l, sa, std::sqrt(1.0 - sa * sa)};
         }
-        // v's edges' planes through x: a direction toward v (not away from it) on one side of all four.
-        std::array<Vec3, 4> m;
-        for (std::size_t e = 0; e < 4; ++e) m[e] = glm::cross(v[e] - x, v[(e + 1) % 4] - x);
-        const Vec3 toward = 0.25 * (v[0] + v[1] + v[2] + v[3]) - x;
-        const auto inside = [&](const Vec3& w) {
-            int pos = 0, neg = 0;
-            for (const Vec3& me : m) (glm::dot(w, me) >= 0.0 ? pos : neg)++;
-            return (pos == 4 || neg == 4) && glm::dot(w, toward) > 0.0;
-        };
-        for (std::size_t a = 0; a < nb; ++a)
-            for (std::size_t b = a + 1; b < nb; ++b) {
-                const Seen &p = seen[a], &q = seen[b];
-                const double dd = glm::dot(p.u, q.u);
-                shape[k].push_back(dd > p.cos_a * q.cos_a - p.sin_a * q.sin_a);
-                // The circles w . u_a = cos_a, w . u_b = cos_b cross at w = alpha u_a + beta u_b
-                // +- gamma (u_a x u_b), where |w| = 1 leaves gamma real.
-                const double det = 1.0 - dd * dd;
-                double alpha = 0.0, beta = 0.0, g2 = -1.0;
-                if (det > 1e-12) {
-                    alpha = (p.cos_a - dd * q.cos_a) / det, beta = (q.cos_a - dd * p.cos_a) / det;
-                    g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * dd) / det;
-                }
-                const Vec3 base = alpha * p.u + beta * q.u,
-                           side = std::sqrt(std::max(0.0, g2)) * glm::cross(p.u, q.u);
-                shape[k].push_back(g2 > 0.0 && inside(base + side));
-                shape[k].push_back(g2 > 0.0 && inside(base - side));
-            }
+        for (std::size_t e = 0; e < 4; ++e) corners[k].m[e] = glm::cross(v[e] - x, v[(e + 1) % 4] - x);
+        corners[k].toward = 0.25 * (v[0] + v[1] + v[2] + v[3]) - x;
     }
-    return shape[1] != shape[0] || shape[2] != shape[0] || shape[3] != shape[0];
+    // Balls a and b from one corner, in three bits: their cones meet, and each of the two points
+    // where their circles cross lies inside v.
+    const auto shape = [&](const Corner& c, std::size_t a, std::size_t b) {
+        const Seen &p = c.seen[a], &q = c.seen[b];
+        const double dd = glm::dot(p.u, q.u);
+        int bits = dd > p.cos_a * q.cos_a - p.sin_a * q.sin_a ? 1 : 0;
+        // The circles w . u_a = cos_a, w . u_b = cos_b cross at w = alpha u_a + beta u_b
+        // +- gamma (u_a x u_b), where |w| = 1 leaves gamma real.
+        const double det = 1.0 - dd * dd;
+        if (!(det > 1e-12)) return bits;
+        const double alpha = (p.cos_a - dd * q.cos_a) / det, beta = (q.cos_a - dd * p.cos_a) / det;
+        const double g2 = (1.0 - alpha * alpha - beta * beta - 2.0 * alpha * beta * dd) / det;
+        if (!(g2 > 0.0)) return bits;
+        const Vec3 base = alpha * p.u + beta * q.u, side = std::sqrt(g2) * glm::cross(p.u, q.u);
+        return bits | (c.inside(base + side) ? 2 : 0) | (c.inside(base - side) ? 4 : 0);
+    };
+    for (std::size_t a = 0; a < nb; ++a)
+        for (std::size_t b = a + 1; b < nb; ++b) {
+            const int first = shape(corners[0], a, b);
+            for (std::size_t k = 1; k < 4; ++k)
+                if (shape(corners[k], a, b) != first) return true;
+        }
+    return false;
 }
 
 // Where the semi path's cubature over patch i splits a region, and which regions take the kink

@@ -260,14 +260,21 @@ double point_to_polygon(const Vec3& x, const Vec3& n, const Vec3* v, int count,
     return std::max(0.0, (sp.whole - blocked) / (2.0 * kPi));
 }
 
-double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int count,
-                                const BoundingSphere& blocker) {
-    SphericalPolygon sp;
-    if (!project(x, n, v, count, &sp)) return 0.0;
+namespace {
+// The form factor the blocker takes away from the projected polygon sp, in [0, unblocked].
+double blocked_factor(SphericalPolygon& sp, const Vec3& x, const Vec3& n, const BoundingSphere& blocker) {
     const double blocked = blocked_part(sp, x, n, blocker);
     if (blocked == 0.0) return 0.0;  // the blocker misses: the polygon's angles are not needed
     measure(n, &sp);
     return std::clamp(blocked / (2.0 * kPi), 0.0, std::max(0.0, sp.whole / (2.0 * kPi)));
+}
+}  // namespace
+
+double point_to_polygon_blocked(const Vec3& x, const Vec3& n, const Vec3* v, int count,
+                                const BoundingSphere& blocker) {
+    SphericalPolygon sp;
+    if (!project(x, n, v, count, &sp)) return 0.0;
+    return blocked_factor(sp, x, n, blocker);
 }
 
 namespace {
@@ -364,7 +371,6 @@ double circle_outside_others(const SphericalPolygon& sp, const Vec3& n,
 
 double point_to_polygon_blocked_by_balls(const Vec3& x, const Vec3& n, const Vec3* v, int count,
                                          const BoundingSphere* balls, int ball_count) {
-    if (ball_count == 1) return point_to_polygon_blocked(x, n, v, count, balls[0]);
     if (ball_count < 1 || ball_count > static_cast<int>(kMaxBallUnion) || count < 3 || count > 16) return 0.0;
     SphericalPolygon sp;
     if (!project(x, n, v, count, &sp)) return 0.0;
@@ -388,7 +394,7 @@ double point_to_polygon_blocked_by_balls(const Vec3& x, const Vec3& n, const Vec
         if (reaches) cones[nk++] = cone, last = b;
     }
     if (nk == 0) return 0.0;
-    if (nk == 1) return point_to_polygon_blocked(x, n, v, count, balls[last]);
+    if (nk == 1) return blocked_factor(sp, x, n, balls[last]);  // point_to_polygon_blocked's value
     measure(n, &sp);
     double blocked = 0.0;
     for (int k = 0; k < sp.nc; ++k) blocked += edge_inside_cones(sp, k, cones, nk) * glm::dot(n, sp.u[k]);
