@@ -19,7 +19,11 @@ std::pair<double, double> distance_range(const SceneGeometry& g, int i, const Ve
         return {std::abs(s->radius - d), s->radius + d};
     }
     const double d = glm::length(p.bound.center - c);
-    return {std::max(0.0, d - p.bound.radius), d + p.bound.radius};
+    double lo = std::max(0.0, d - p.bound.radius);
+    // A flat patch is no nearer than its plane: a wide disk under a ball, which its bounding
+    // ball would reach into.
+    if (const auto pl = g.surface(p.surface).plane()) lo = std::max(lo, std::abs(pl->signed_distance(c)));
+    return {lo, d + p.bound.radius};
 }
 
 // Where the moving circle (the edge of what x sees: the hidden cap's, x's horizon's or the
