@@ -87,11 +87,21 @@ bool inside_solid(const SceneGeometry& g, const Patch& p, int k) {
     if (p.surface == k) return true;
     const auto solid = g.surface(k).convex_solid();
     if (!solid) return false;
+    const Surface& s = g.surface(p.surface);
+    if (solid->cylinder && solid->slope != 0.0) {
+        // A cone: the patch's largest distance from the axis within the solid's radius where that
+        // is smallest over the patch's heights (the radius is affine in the height).
+        const auto [lo, hi] = s.linear_range(solid->axis, p.s0, p.s1, p.t0, p.t1);
+        const double h0 = glm::dot(solid->center, solid->axis);
+        const double narrowest = solid->radius_at(solid->slope > 0.0 ? lo - h0 : hi - h0);
+        const double scale = std::max({solid->radius, std::abs(lo - h0), std::abs(hi - h0)});
+        return s.max_distance_from_line(solid->center, solid->axis, p.s0, p.s1, p.t0, p.t1) <=
+               narrowest + 1e-12 * scale;
+    }
     const double limit = solid->radius * (1.0 + 1e-12);
     if (solid->cylinder)
-        return g.surface(p.surface).max_distance_from_line(solid->center, solid->axis, p.s0, p.s1, p.t0,
-                                                           p.t1) <= limit;
-    return g.surface(p.surface).max_distance_from_point(solid->center, p.s0, p.s1, p.t0, p.t1) <= limit;
+        return s.max_distance_from_line(solid->center, solid->axis, p.s0, p.s1, p.t0, p.t1) <= limit;
+    return s.max_distance_from_point(solid->center, p.s0, p.s1, p.t0, p.t1) <= limit;
 }
 
 std::optional<ContourReceiver> contour_receiver(const SceneGeometry& g, int i, int j,

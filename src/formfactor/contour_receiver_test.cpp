@@ -3,6 +3,8 @@
 // seen from a square, each against a 4-D product rule of Lambert's kernel
 // (formfactor/contour_receiver.h; the proofs that allow it: Surface::seen_once_from,
 // Surface::on_convex_hull).
+#include "formfactor/contour_receiver.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -159,6 +161,33 @@ TEST(CurvedSurfaces, ATorusOuterPatchFacingAPolygonTakesItsContour) {
     // equator (the rows toward the top and bottom tilt their tangent planes past the square's
     // lower or upper corners).
     EXPECT_EQ(facing, 4);
+}
+
+// A cone's side bounds the nappe of its infinite cone, a convex solid: a patch is inside it when
+// its largest distance from the axis is within the solid's radius at the narrow end of its
+// heights. A vertical square 0.2 wide, from height 0 to 1, at distance 0.45 or 0.6 from the axis
+// of a cone narrowing from radius 1 to 0.5 (inside only at 0.45), and of one widening from 0.5
+// to 1 (inside neither whole, but its upper half at 0.6 is: radius 0.75 at height 0.5).
+TEST(ContourReceiver, APatchIsInsideAConesSolidWhereItsNarrowEndHoldsIt) {
+    auto inside = [](double r0, double r1, double x, double z0) {
+        const std::string quad = "  - {name: q, type: quad, corners: [[" + std::to_string(x) + ", -0.1, " +
+                                 std::to_string(z0) + "], [" + std::to_string(x) + ", 0.1, " +
+                                 std::to_string(z0) + "], [" + std::to_string(x) + ", 0.1, 1], [" +
+                                 std::to_string(x) +
+                                 ", -0.1, 1]], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+        const Scene scene = parse_scene(
+            "closed: false\nsurfaces:\n  - {name: c, type: cone, base: [0, 0, 0], axis: [0, 0, 1], radius: " +
+                std::to_string(r0) + ", top_radius: " + std::to_string(r1) +
+                ", facing: inward, patches: [4, 1], reflectance: [0.5, 0.5, 0.5]}\n" + quad,
+            "cone.yaml");
+        const SceneGeometry g(scene);
+        return inside_solid(g, g.patch(4), 0);
+    };
+    EXPECT_TRUE(inside(1.0, 0.5, 0.45, 0.0));
+    EXPECT_FALSE(inside(1.0, 0.5, 0.6, 0.0));
+    EXPECT_FALSE(inside(0.5, 1.0, 0.45 + 0.15, 0.0));
+    EXPECT_TRUE(inside(0.5, 1.0, 0.6, 0.5));
+    EXPECT_FALSE(inside(0.5, 1.0, 0.8, 0.5));
 }
 
 }  // namespace radiosa

@@ -167,6 +167,44 @@ TEST(CurvedSurfaces, ConeUnderADiskSeesWhatItsRimsBound) {
     EXPECT_EQ(fr.stats.numeric, 0);
 }
 
+// The inside of a closed cone (a pointed one on its base disk) and of a frustum closed by two
+// disks, tilted, scaled and moved: every chord between them lies in the cone's solid, so every
+// pair takes the contour path (none the numeric one, which left the pointed cone's rows 4.5e-4
+// short and the frustum's 5.9e-6 at this tolerance). The base sees only the side, which sends it
+// A_base / A_side = r / slant; the frustum's lids see each other by Howell C-41.
+TEST(CurvedSurfaces, InsideAClosedConeRowsSumToOne) {
+    const std::string xf =
+        ", transform: {scale: 2.5, rotate_deg: {axis: [1, 1, 0], angle: 40}, translate: [0, 0, -1]}";
+    const Scene pointed = parse_scene(
+        "surfaces:\n" + disk("base", "[0, 0, 0]", "[0, 0, 1]", 1.2, 0, "[2, 1]") +
+            "  - {name: side, type: cone, base: [0, 0, 0], axis: [0, 0, 0.9], radius: 1.2, top_radius: 0, "
+            "facing: inward, patches: [4, 2], reflectance: [0.5, 0.5, 0.5]}\n",
+        "cone.yaml");
+    FormFactors ff = adaptive(pointed, 1e-10);
+    EXPECT_EQ(ff.stats.numeric, 0);
+    EXPECT_LE(max_row_error(ff), 1e-9);
+    EXPECT_NEAR(surface_factor(pointed, ff, 0, 1), 1.0, 1e-9);
+    EXPECT_NEAR(surface_factor(pointed, ff, 1, 0), 1.2 / 1.5, 1e-9);
+    expect_rows_within_estimates(ff, 1e-14);
+
+    std::string frustum =
+        disk("base", "[0.3, -0.2, 0.1]", "[0, 0, 1]", 0.5, 0, "[2, 1]") +
+        disk("top", "[0.3, -0.2, 1.3]", "[0, 0, -1]", 1.1, 0, "[2, 1]") +
+        "  - {name: side, type: cone, base: [0.3, -0.2, 0.1], axis: [0, 0, 1.2], radius: 0.5, "
+        "top_radius: 1.1, facing: inward, patches: [4, 2], reflectance: [0.5, 0.5, 0.5]}\n";
+    for (std::size_t at = frustum.find("}\n"); at != std::string::npos;
+         at = frustum.find("}\n", at + xf.size() + 2))
+        frustum.insert(at, xf);
+    const Scene widening = parse_scene("surfaces:\n" + frustum, "frustum.yaml");
+    ff = adaptive(widening, 1e-10);
+    EXPECT_EQ(ff.stats.numeric, 0);
+    EXPECT_LE(max_row_error(ff), 1e-9);
+    const double lids = coaxial_disks(0.5, 1.1, 1.2);
+    EXPECT_NEAR(surface_factor(widening, ff, 0, 1), lids, 1e-9);
+    EXPECT_NEAR(surface_factor(widening, ff, 0, 2), 1.0 - lids, 1e-9);
+    expect_rows_within_estimates(ff, 1e-14);
+}
+
 // A ball close above a wide disk (Howell's sphere to coaxial disk): F(ball -> disk) =
 // (1 - 1 / sqrt(1 + (a / h)^2)) / 2 for any ball radius below h. The disk's bounding ball
 // reaches into the ball, but the disk's plane does not, so the disk's patches see the ball's

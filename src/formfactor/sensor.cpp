@@ -26,8 +26,10 @@ namespace {
 bool strictly_inside(const Vec3& x, const std::optional<ConvexSolid>& solid) {
     if (!solid) return false;
     Vec3 q = x - solid->center;
-    if (solid->cylinder) q -= glm::dot(q, solid->axis) * solid->axis;
-    return glm::length(q) < solid->radius;
+    if (!solid->cylinder) return glm::length(q) < solid->radius;
+    const double h = glm::dot(q, solid->axis);
+    q -= h * solid->axis;
+    return glm::length(q) < solid->radius_at(h);
 }
 
 // Surfaces that might block a segment from x to patch j: the same proofs as between patches

@@ -136,8 +136,8 @@ bool FrustumSurface::patch_contour(double s0, double s1, double t0, double t1,
 }
 
 std::optional<ConvexSolid> FrustumSurface::convex_solid() const {
-    if (m_r0 != m_r1) return std::nullopt;
-    return ConvexSolid{true, m_base, m_frame.axis, m_r0};
+    if (m_r0 == m_r1) return ConvexSolid{true, m_base, m_frame.axis, m_r0};
+    return ConvexSolid{true, m_base, m_frame.axis, m_r0, (m_r1 - m_r0) / m_length};
 }
 
 double FrustumSurface::max_distance_from_line(const Vec3& p, const Vec3& u, double s0, double s1, double t0,

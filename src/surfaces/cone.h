@@ -31,7 +31,7 @@ public:
     // Two arcs (one, at an apex) and two straight generators.
     bool patch_contour(double s0, double s1, double t0, double t1,
                        std::vector<ContourPiece>* out) const override;
-    // Cylinders only: the infinite cylinder.
+    // The infinite cylinder, or the nappe of the infinite cone, that the side lies on.
     std::optional<ConvexSolid> convex_solid() const override;
     // Every whole one.
     std::optional<RoundFrustum> round_frustum() const override {

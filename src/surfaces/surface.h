@@ -32,13 +32,18 @@ struct SurfaceHit {
 
 enum class HitSide { Any, FrontOnly };
 
-// A convex solid: the ball |y - center| <= radius, or the infinite cylinder of that radius
-// about the line through center along the unit vector axis.
+// A convex solid: the ball |y - center| <= radius, or the round infinite cylinder or cone about
+// the line through center along the unit vector axis: the points whose distance from that line
+// is at most radius + slope h, h = (y - center) . axis (slope 0: a cylinder; otherwise the
+// nappe of the cone on the side where that radius is positive).
 struct ConvexSolid {
-    bool cylinder = false;
+    bool cylinder = false;  // about a line (a cylinder, or a cone when slope != 0)
     Vec3 center{0.0};
     Vec3 axis{0.0, 0.0, 1.0};
     double radius = 0.0;
+    double slope = 0.0;
+    // The solid's radius at height h along the axis from center.
+    double radius_at(double h) const { return radius + slope * h; }
 };
 
 // A whole flat disk or annulus: the points of the plane through `center` with unit normal
@@ -200,7 +205,7 @@ public:
         return false;
     }
     // The convex solid whose boundary holds the whole surface (a ball, or an infinite round
-    // cylinder), if there is one: a segment from a point inside it meets the surface only at its
+    // cylinder or cone), if there is one: a segment from a point inside it meets the surface only at its
     // ends, and the surface's concave side faces every point inside.
     virtual std::optional<ConvexSolid> convex_solid() const { return std::nullopt; }
     // The whole surface as a flat disk or annulus (every angle), if it is one: its shadow seen
