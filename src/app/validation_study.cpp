@@ -164,6 +164,98 @@ Case inside_sphere(Sampler& s) {
         }};
 }
 
+// The area-weighted form factor from surface a's patches to surface b's (patch ranges [a0, a1)
+// and [b0, b1) in the scene's order), with the area-weighted sum of their estimates.
+Reading surface_to_surface(const FormFactors& ff, int a0, int a1, int b0, int b1) {
+    Reading rd;
+    double area = 0.0;
+    for (int i = a0; i < a1; ++i) {
+        area += ff.area[i];
+        for (int j = b0; j < b1; ++j) {
+            rd.value += ff.area[i] * ff.F(i, j);
+            rd.estimate += ff.area[i] * ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
+        }
+    }
+    rd.value /= area;
+    rd.estimate /= area;
+    return rd;
+}
+
+std::string disk(const std::string& name, double z, double nz, double radius, int around, int radial,
+                 double k) {
+    return fmt::format(
+        "  - {{name: {}, type: disk, center: [0, 0, {:.17g}], normal: [0, 0, {}], radius: {:.17g}, patches: "
+        "[{}, "
+        "{}], reflectance: [0, 0, 0]}}\n",
+        name, k * z, nz, k * radius, around, radial);
+}
+
+// Howell C-41: coaxial parallel disks of radii r1 (the emitter) and r2 a distance h apart:
+// F = (X - sqrt(X^2 - 4 (R2 / R1)^2)) / 2, R = r / h, X = 1 + (1 + R2^2) / R1^2, taken as
+// 2 (R2 / R1)^2 / (X + sqrt(...)) so that it keeps its digits when F is small.
+long double coaxial_disks(long double r1, long double r2, long double h) {
+    const long double R1 = r1 / h, R2 = r2 / h, X = 1 + (1 + R2 * R2) / (R1 * R1), q = (R2 / R1) * (R2 / R1);
+    return 2 * q / (X + std::sqrt(X * X - 4 * q));
+}
+
+Case coaxial(Sampler& s) {
+    const double r1 = s.log_uniform(0.05, 20), r2 = s.log_uniform(0.05, 20);
+    const double h = std::min(r1, r2) * s.log_uniform(1e-9, 10), k = s.log_uniform(1e-6, 1e6);
+    const int a1 = s.pick({1, 2, 4}), n1 = s.pick({1, 2}), a2 = s.pick({1, 2, 4}), n2 = s.pick({1, 2});
+    const int p1 = a1 * n1, p2 = a2 * n2;
+    return {"coaxial disks",
+            fmt::format("r1 {:.3g}, r2 {:.3g}, h {:.3g}, scale {:.1e}, patches {}x{} and {}x{}", r1, r2, h, k,
+                        a1, n1, a2, n2),
+            disk("lo", 0, 1, r1, a1, n1, k) + disk("hi", h, -1, r2, a2, n2, k),
+            static_cast<double>(coaxial_disks(r1, r2, h)),
+            [p1, p2](const FormFactors& ff) { return surface_to_surface(ff, 0, p1, p1, p1 + p2); }};
+}
+
+// A ball of radius r whose centre is at height h above the centre of a disk of radius a:
+// F(ball -> disk) = (1 - 1 / sqrt(1 + (a / h)^2)) / 2 for any r < h (Howell's sphere to coaxial
+// disk), read as the area-weighted sum over the ball's patches.
+Case ball_over_disk(Sampler& s) {
+    const double r = s.log_uniform(0.1, 1), h = r * (1.0 + s.log_uniform(1e-3, 10));
+    const double a = h * s.log_uniform(0.1, 10), k = s.log_uniform(1e-6, 1e6);
+    const int ns = s.pick({2, 4, 8}), nt = s.pick({1, 2, 4}), around = s.pick({1, 2, 4}),
+              radial = s.pick({1, 2});
+    const long double R = static_cast<long double>(a) / h;
+    const int nd = around * radial;
+    return {
+        "ball over a coaxial disk",
+        fmt::format("r {:.3g}, h {:.3g}, a {:.3g}, scale {:.1e}, patches {}x{} and {}x{}", r, h, a, k, ns, nt,
+                    around, radial),
+        disk("disk", 0, 1, a, around, radial, k) +
+            fmt::format("  - {{name: ball, type: sphere, center: [0, 0, {:.17g}], radius: {:.17g}, patches: "
+                        "[{}, {}], reflectance: [0, 0, 0]}}\n",
+                        k * h, k * r, ns, nt),
+        static_cast<double>((1 - 1 / std::sqrt(1 + R * R)) / 2),
+        [nd, ns, nt](const FormFactors& ff) { return surface_to_surface(ff, nd, nd + ns * nt, 0, nd); }};
+}
+
+// The inside of a closed frustum (top radius 0: a pointed cone) on its base disk, with a lid on
+// a frustum: what the base sends the side is 1 - F(base -> lid) (Howell C-41), all of it for a
+// pointed cone.
+Case closed_cone(Sampler& s) {
+    const double r0 = s.log_uniform(0.05, 20), l = r0 * s.log_uniform(0.05, 20), k = s.log_uniform(1e-6, 1e6);
+    const double r1 = s.pick({0, 1}) == 0 ? 0.0 : r0 * s.log_uniform(0.05, 20);
+    const int around = s.pick({2, 4, 8}), along = s.pick({1, 2, 3}), lid_around = s.pick({1, 2, 4});
+    const int nb = lid_around, nl = r1 > 0.0 ? lid_around : 0;
+    std::string yaml = disk("base", 0, 1, r0, lid_around, 1, k);
+    if (r1 > 0.0) yaml += disk("lid", l, -1, r1, lid_around, 1, k);
+    yaml += fmt::format(
+        "  - {{name: side, type: cone, base: [0, 0, 0], axis: [0, 0, {:.17g}], radius: {:.17g}, top_radius: "
+        "{:.17g}, facing: inward, patches: [{}, {}], reflectance: [0, 0, 0]}}\n",
+        k * l, k * r0, k * r1, around, along);
+    return {r1 > 0.0 ? "closed frustum" : "closed cone",
+            fmt::format("r0 {:.3g}, r1 {:.3g}, l {:.3g}, scale {:.1e}, patches {}x{}", r0, r1, l, k, around,
+                        along),
+            yaml, r1 > 0.0 ? static_cast<double>(1 - coaxial_disks(r0, r1, l)) : 1.0,
+            [nb, nl, around, along](const FormFactors& ff) {
+                return surface_to_surface(ff, 0, nb, nb + nl, nb + nl + around * along);
+            }};
+}
+
 std::vector<Case> cases(const ValidationJob& job) {
     Sampler s(job.seed);
     std::vector<Case> c;
@@ -174,6 +266,14 @@ std::vector<Case> cases(const ValidationJob& job) {
         c.push_back(sphere_to_rectangle(s));
         c.push_back(plate_between_squares(s));
         if (k % 5 == 0) c.push_back(inside_sphere(s));
+    }
+    // The curved types' families, drawn from a second stream so that the ones above keep their
+    // configurations (and halves) as they were.
+    Sampler t(job.seed + 1);
+    for (int k = 0; k < job.per_family; ++k) {
+        c.push_back(coaxial(t));
+        c.push_back(ball_over_disk(t));
+        c.push_back(closed_cone(t));
     }
     return c;
 }
