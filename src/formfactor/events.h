@@ -267,7 +267,6 @@ public:
         return {};
     }
 
-private:
     // A cut across the region where e(s, t) changes sign along two lines through it (at fractions
     // f0 and f1 of its extent in the other parameter), at parameters within `agree` of its width
     // of each other: halfway between them, in the first direction where that holds.
@@ -308,6 +307,7 @@ private:
         return 0.5 * (a + b);
     }
 
+private:
     struct Cone {
         Vec3 apex, axis;
         double cos2;  // cos^2 of the half-angle
