@@ -34,10 +34,17 @@ ContourValue cubic_integral(const std::array<Vec3, 4>& q, const Vec3& x, const V
 // the band runs along its edge, sees nothing of it: two coaxial disks 7e-11 of their radii
 // apart gave 0.2704 for 0.2661 with an estimate of 1.5e-11. A region that comes within a
 // twentieth of its size of j's plane is cut along such a line where it runs across the region
-// (EventSet::cut_where); elsewhere the band crosses the nodes and the estimates see it.
+// (EventSet::cut_where). Along an edge of the region that such a line runs along, the band is
+// worth at most the gap times the edge's length (the factor changes by at most 1 across it):
+// where that could exceed a tenth of the pair's tolerance the region is halved toward the edge
+// until it is no wider than 4 gaps, so that its nodes reach into the band (a patch of a disk
+// under a sector of another whose edges lie over its own, 8e-5 of their radii apart, missed
+// 1.5e-5 of its factor otherwise); below that, the band's worth is added to the estimate
+// (unresolved). Elsewhere the band crosses the nodes and the estimates see it.
 class EdgeBands {
 public:
-    EdgeBands(const Surface& si, const Surface& sj, const std::vector<ContourPiece>& pieces) : m_si(si) {
+    EdgeBands(const Surface& si, const Surface& sj, const std::vector<ContourPiece>& pieces, double tol)
+        : m_si(si), m_tol(tol) {
         const auto plane = sj.plane();
         if (!plane) return;
         m_plane = *plane;
@@ -57,28 +64,72 @@ public:
             std::max(glm::length(p11 - p00), glm::length(m_si.point(r.s1, r.t0) - m_si.point(r.s0, r.t1)));
         const double gap = m_si.linear_range(m_plane.normal, r.s0, r.s1, r.t0, r.t1).first - m_plane.offset;
         if (!(gap < 0.05 * size)) return {};
-        const Vec3& n = m_plane.normal;
-        for (const Arc& a : m_arcs) {
-            // The squared distance from the arc's axis less its radius's square: 0 on its cylinder,
-            // and taken as 0 within rounding (a tube's rim on the tube itself).
+        for (int k = 0; k < count(); ++k) {
+            const double eps = k < static_cast<int>(m_arcs.size()) ? 1e-9 * m_arcs[k].radius : 1e-12 * size;
             auto e = [&](double s, double t) {
-                const Vec3 q = m_si.point(s, t) - a.center;
-                const double v = glm::dot(q, q) - glm::dot(q, n) * glm::dot(q, n) - a.radius * a.radius;
-                return std::abs(v) <= 1e-9 * a.radius * a.radius ? 0.0 : v;
+                const double v = distance(k, m_si.point(s, t));
+                return std::abs(v) <= eps ? 0.0 : v;
             };
             if (const Cut c = EventSet::cut_where(r, e, 0.0, 1.0, 0.1); c.dir >= 0) return c;
         }
-        for (const Segment& g : m_segments) {
-            auto e = [&](double s, double t) {
-                const double v = glm::dot(g.normal, m_si.point(s, t) - g.a);
-                return std::abs(v) <= 1e-12 * size ? 0.0 : v;
-            };
-            if (const Cut c = EventSet::cut_where(r, e, 0.0, 1.0, 0.1); c.dir >= 0) return c;
-        }
+        if (gap > 0.0)
+            for (int k = 0; k < count(); ++k)
+                if (const Edge b = along_edge(r, k, gap); b.dir >= 0 && b.worth > 0.1 * m_tol)
+                    return Cut{b.dir};
         return {};
     }
 
+    // What the bands along the region's edges may be worth that its nodes do not reach.
+    double unresolved(const Rect& r) const {
+        if (m_arcs.empty() && m_segments.empty()) return 0.0;
+        const auto [lo, hi] = m_si.linear_range(m_plane.normal, r.s0, r.s1, r.t0, r.t1);
+        const double gap = lo - m_plane.offset;
+        const double size = glm::length(m_si.point(r.s1, r.t1) - m_si.point(r.s0, r.t0));
+        if (!(gap > 0.0 && gap < 0.05 * size)) return 0.0;
+        // The band is as wide as the height over j, at most hi - offset over the region.
+        double worth = 0.0;
+        for (int k = 0; k < count(); ++k) worth += std::max(0.0, along_edge(r, k, gap).worth);
+        return worth * (hi - m_plane.offset) / gap;
+    }
+
 private:
+    int count() const { return static_cast<int>(m_arcs.size() + m_segments.size()); }
+    // Signed distance of x from line k's surface: the cylinder over an arc, or the plane along j's
+    // normal through a segment.
+    double distance(int k, const Vec3& x) const {
+        if (k < static_cast<int>(m_arcs.size())) {
+            const Vec3 q = x - m_arcs[k].center;
+            const double along = glm::dot(q, m_plane.normal);
+            return std::sqrt(std::max(0.0, glm::dot(q, q) - along * along)) - m_arcs[k].radius;
+        }
+        const Segment& g = m_segments[static_cast<std::size_t>(k) - m_arcs.size()];
+        return glm::dot(g.normal, x - g.a);
+    }
+    // Line k along one of the region's edges (within the gap at both ends and the middle, the
+    // region's middle farther off), the region wider than 4 gaps across it: the direction to halve
+    // it in, and gap x the edge's length.
+    struct Edge {
+        int dir = -1;
+        double worth = -1.0;
+    };
+    Edge along_edge(const Rect& r, int k, double gap) const {
+        const double sm = 0.5 * (r.s0 + r.s1), tm = 0.5 * (r.t0 + r.t1);
+        if (!(std::abs(distance(k, m_si.point(sm, tm))) > gap)) return {};
+        auto on_line = [&](double s0, double t0, double s1, double t1) {
+            for (double f : {0.0, 0.5, 1.0})
+                if (!(std::abs(distance(k, m_si.point(s0 + f * (s1 - s0), t0 + f * (t1 - t0)))) <= gap))
+                    return false;
+            return true;
+        };
+        const double across_s = glm::length(m_si.point(r.s1, tm) - m_si.point(r.s0, tm)),
+                     across_t = glm::length(m_si.point(sm, r.t1) - m_si.point(sm, r.t0));
+        if (across_s > 4.0 * gap && (on_line(r.s0, r.t0, r.s0, r.t1) || on_line(r.s1, r.t0, r.s1, r.t1)))
+            return {0, gap * across_t};
+        if (across_t > 4.0 * gap && (on_line(r.s0, r.t0, r.s1, r.t0) || on_line(r.s0, r.t1, r.s1, r.t1)))
+            return {1, gap * across_s};
+        return {};
+    }
+
     struct Arc {
         Vec3 center;
         double radius;
@@ -87,6 +138,7 @@ private:
         Vec3 a, normal;  // the plane through the segment along j's normal
     };
     const Surface& m_si;
+    double m_tol;  // the pair's target, A_i F_ij
     Plane m_plane{};
     std::vector<Arc> m_arcs;
     std::vector<Segment> m_segments;
@@ -256,12 +308,12 @@ Estimate area_times_f_contour(const SceneGeometry& g, int i, int j, const Contou
         return da * v.value;
     };
     const Rect root{pi.s0, pi.s1, pi.t0, pi.t1};
-    const EdgeBands bands(si, g.surface(pj.surface), how.pieces);
+    const double region_tol = tol * std::min(pi.area, pj.area);
+    const EdgeBands bands(si, g.surface(pj.surface), how.pieces, region_tol);
     auto geometric = [&](const Rect& r, const auto&) {
         if (const Cut c = quarter_of(root, r); c.dir >= 0) return c;
         return bands.cut(r);
     };
-    const double region_tol = tol * std::min(pi.area, pj.area);
     std::vector<Rect> leaves;
     Estimate e = adaptive_rect(gx, Rect{pi.s0, pi.s1, pi.t0, pi.t1}, 0.9 * region_tol, max_regions, outer,
                                geometric, NoSuspects{}, &leaves);
@@ -272,7 +324,7 @@ Estimate area_times_f_contour(const SceneGeometry& g, int i, int j, const Contou
         const ContourValue v = contour_at(s, t, &da);
         return da * v.error;
     };
-    for (const Rect& r : leaves) e.error += kSafety * tensor_gauss(ex, r, outer);
+    for (const Rect& r : leaves) e.error += kSafety * tensor_gauss(ex, r, outer) + bands.unresolved(r);
     return e;
 }
 
