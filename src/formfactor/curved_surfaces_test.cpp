@@ -109,6 +109,28 @@ TEST(CurvedSurfaces, CoaxialDisksMatchTheClosedForm) {
     }
 }
 
+// Coaxial disks 2.7e-4 apart, radii 15.6 and 52.8, split so that the sectors' edges lie over one
+// another: under each edge F(dx -> sector) changes across a band as narrow as the gap, along
+// the outer patches' own edges. Every entry at tolerances 1e-6 and 1e-8 is within its estimate
+// of the same entry at 1e-10 (plus that one's), and the disks' factor is Howell's C-41. Before,
+// an entry toward the sector overhead missed 1.5e-5 at 1e-7 and its estimate said 1e-8 (the
+// neighbouring sectors' entries took it, so the rows still summed to 1).
+TEST(CurvedSurfaces, NearlyTouchingCoaxialDisksAreWithinTheirEstimatesEntryByEntry) {
+    const Scene scene =
+        parse_scene("closed: false\nsurfaces:\n" + disk("lo", "[0, 0, 0]", "[0, 0, 1]", 15.609, 0, "[4, 2]") +
+                        disk("hi", "[0, 0, 0.00026994]", "[0, 0, -1]", 52.8, 0, "[4, 1]"),
+                    "near-disks.yaml");
+    const FormFactors ref = adaptive(scene, 1e-10);
+    EXPECT_NEAR(surface_factor(scene, ref, 0, 1), coaxial_disks(15.609, 52.8, 0.00026994), 1e-9);
+    for (double tol : {1e-6, 1e-8}) {
+        const FormFactors ff = adaptive(scene, tol);
+        for (int i = 0; i < 8; ++i)
+            for (int j = 8; j < 12; ++j)
+                EXPECT_LE(std::abs(ff.F(i, j) - ref.F(i, j)), err_of(ff, i, j) + err_of(ref, i, j))
+                    << "tolerance " << tol << ", entry " << i << " -> " << j;
+    }
+}
+
 TEST(CurvedSurfaces, AnnulusIsTheDifferenceOfTwoDisks) {
     const Scene scene =
         parse_scene("closed: false\nsurfaces:\n" + disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, "[1, 1]") +
