@@ -92,6 +92,23 @@ Case perpendicular(Sampler& s, bool gap) {
         entry01};
 }
 
+// The area-weighted form factor from surface a's patches to surface b's (patch ranges [a0, a1)
+// and [b0, b1) in the scene's order), with the area-weighted sum of their estimates.
+Reading surface_to_surface(const FormFactors& ff, int a0, int a1, int b0, int b1) {
+    Reading rd;
+    double area = 0.0;
+    for (int i = a0; i < a1; ++i) {
+        area += ff.area[i];
+        for (int j = b0; j < b1; ++j) {
+            rd.value += ff.area[i] * ff.F(i, j);
+            rd.estimate += ff.area[i] * ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
+        }
+    }
+    rd.value /= area;
+    rd.estimate /= area;
+    return rd;
+}
+
 // A sphere of radius r whose centre is at height h above a corner of an a x b rectangle:
 // F(sphere -> rectangle) = atan(D1 D2 / sqrt(1 + D1^2 + D2^2)) / (4 pi), D = a/h, b/h (Howell
 // B-?; a quarter of an infinite plane gives 1/8). Read as the area-weighted sum over the
@@ -110,19 +127,7 @@ Case sphere_to_rectangle(Sampler& s) {
             fmt::format("  - {{name: ball, type: sphere, center: [0, 0, {:.17g}], radius: {:.17g}, patches: "
                         "[{}, {}], reflectance: [0, 0, 0]}}\n",
                         h, r, ns, nt),
-        exact, [](const FormFactors& ff) {
-            const int n = ff.F.n;
-            double area = 0.0;
-            Reading rd;
-            for (int i = 1; i < n; ++i) {
-                area += ff.area[i];
-                rd.value += ff.area[i] * ff.F(i, 0);
-                rd.estimate += ff.area[i] * ff.error[static_cast<std::size_t>(i) * n];
-            }
-            rd.value /= area;
-            rd.estimate /= area;
-            return rd;
-        }};
+        exact, [](const FormFactors& ff) { return surface_to_surface(ff, 1, ff.F.n, 0, 1); }};
 }
 
 // Two parallel unit squares at distance c with a rectangular plate between them at height h:
@@ -164,23 +169,6 @@ Case inside_sphere(Sampler& s) {
         }};
 }
 
-// The area-weighted form factor from surface a's patches to surface b's (patch ranges [a0, a1)
-// and [b0, b1) in the scene's order), with the area-weighted sum of their estimates.
-Reading surface_to_surface(const FormFactors& ff, int a0, int a1, int b0, int b1) {
-    Reading rd;
-    double area = 0.0;
-    for (int i = a0; i < a1; ++i) {
-        area += ff.area[i];
-        for (int j = b0; j < b1; ++j) {
-            rd.value += ff.area[i] * ff.F(i, j);
-            rd.estimate += ff.area[i] * ff.error[static_cast<std::size_t>(i) * ff.F.n + j];
-        }
-    }
-    rd.value /= area;
-    rd.estimate /= area;
-    return rd;
-}
-
 std::string disk(const std::string& name, double z, double nz, double radius, int around, int radial,
                  double k) {
     return fmt::format(
@@ -188,14 +176,6 @@ std::string disk(const std::string& name, double z, double nz, double radius, in
         "[{}, "
         "{}], reflectance: [0, 0, 0]}}\n",
         name, k * z, nz, k * radius, around, radial);
-}
-
-// Howell C-41: coaxial parallel disks of radii r1 (the emitter) and r2 a distance h apart:
-// F = (X - sqrt(X^2 - 4 (R2 / R1)^2)) / 2, R = r / h, X = 1 + (1 + R2^2) / R1^2, taken as
-// 2 (R2 / R1)^2 / (X + sqrt(...)) so that it keeps its digits when F is small.
-long double coaxial_disks(long double r1, long double r2, long double h) {
-    const long double R1 = r1 / h, R2 = r2 / h, X = 1 + (1 + R2 * R2) / (R1 * R1), q = (R2 / R1) * (R2 / R1);
-    return 2 * q / (X + std::sqrt(X * X - 4 * q));
 }
 
 Case coaxial(Sampler& s) {
@@ -207,7 +187,7 @@ Case coaxial(Sampler& s) {
             fmt::format("r1 {:.3g}, r2 {:.3g}, h {:.3g}, scale {:.1e}, patches {}x{} and {}x{}", r1, r2, h, k,
                         a1, n1, a2, n2),
             disk("lo", 0, 1, r1, a1, n1, k) + disk("hi", h, -1, r2, a2, n2, k),
-            static_cast<double>(coaxial_disks(r1, r2, h)),
+            static_cast<double>(analytic::coaxial_disks<long double>(r1, r2, h)),
             [p1, p2](const FormFactors& ff) { return surface_to_surface(ff, 0, p1, p1, p1 + p2); }};
 }
 
@@ -250,7 +230,7 @@ Case closed_cone(Sampler& s) {
     return {r1 > 0.0 ? "closed frustum" : "closed cone",
             fmt::format("r0 {:.3g}, r1 {:.3g}, l {:.3g}, scale {:.1e}, patches {}x{}", r0, r1, l, k, around,
                         along),
-            yaml, r1 > 0.0 ? static_cast<double>(1 - coaxial_disks(r0, r1, l)) : 1.0,
+            yaml, r1 > 0.0 ? static_cast<double>(1 - analytic::coaxial_disks<long double>(r0, r1, l)) : 1.0,
             [nb, nl, around, along](const FormFactors& ff) {
                 return surface_to_surface(ff, 0, nb, nb + nl, nb + nl + around * along);
             }};

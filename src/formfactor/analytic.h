@@ -17,6 +17,15 @@ namespace radiosa::analytic {
 template <class T>
 constexpr T kPiT = T(3.14159265358979323846264338327950288L);
 
+// Coaxial parallel disks of radii r1 (the emitter) and r2 a distance h apart (Howell C-41):
+// F = (X - sqrt(X^2 - 4 (R2 / R1)^2)) / 2, R = r / h, X = 1 + (1 + R2^2) / R1^2, taken as
+// 2 (R2 / R1)^2 / (X + sqrt(...)) so that it keeps its digits when F is small.
+template <class T = double>
+inline T coaxial_disks(std::type_identity_t<T> r1, std::type_identity_t<T> r2, std::type_identity_t<T> h) {
+    const T R1 = r1 / h, R2 = r2 / h, X = 1 + (1 + R2 * R2) / (R1 * R1), q = (R2 / R1) * (R2 / R1);
+    return 2 * q / (X + std::sqrt(X * X - 4 * q));
+}
+
 // Two directly opposed, parallel, equal rectangles a x b at distance c (Howell C-11).
 template <class T = double>
 inline T parallel_rectangles(std::type_identity_t<T> a, std::type_identity_t<T> b,

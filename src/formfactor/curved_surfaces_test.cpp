@@ -8,6 +8,7 @@
 #include <string>
 
 #include "../tests/test_scenes.h"
+#include "formfactor/analytic.h"
 #include "formfactor/form_factor.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -16,12 +17,6 @@
 namespace radiosa {
 
 namespace {
-
-// Coaxial parallel disks of radii r1 (emitter) and r2 a distance h apart (Howell C-41).
-double coaxial_disks(double r1, double r2, double h) {
-    const double R1 = r1 / h, R2 = r2 / h, X = 1.0 + (1.0 + R2 * R2) / (R1 * R1);
-    return 0.5 * (X - std::sqrt(X * X - 4.0 * (R2 / R1) * (R2 / R1)));
-}
 
 FormFactors adaptive(const Scene& scene, double tol) {
     return compute_form_factors(SceneGeometry(scene), FormFactorOptions::adaptive(tol, true));
@@ -95,7 +90,7 @@ TEST(CurvedSurfaces, CoaxialDisksMatchTheClosedForm) {
             parse_scene("closed: false\nsurfaces:\n" + disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, patches) +
                             disk("b", "[0, 0, 1]", "[0, 0, -1]", 1.5, 0, patches),
                         "disks.yaml");
-        const double exact = coaxial_disks(0.5, 1.5, 1.0);
+        const double exact = analytic::coaxial_disks(0.5, 1.5, 1.0);
         for (double tol : {1e-6, 1e-10}) {
             SCOPED_TRACE(std::string(patches) + " at " + std::to_string(tol));
             const FormFactors ff = adaptive(scene, tol);
@@ -121,7 +116,7 @@ TEST(CurvedSurfaces, NearlyTouchingCoaxialDisksAreWithinTheirEstimatesEntryByEnt
                         disk("hi", "[0, 0, 0.00026994]", "[0, 0, -1]", 52.8, 0, "[4, 1]"),
                     "near-disks.yaml");
     const FormFactors ref = adaptive(scene, 1e-10);
-    EXPECT_NEAR(surface_factor(scene, ref, 0, 1), coaxial_disks(15.609, 52.8, 0.00026994), 1e-9);
+    EXPECT_NEAR(surface_factor(scene, ref, 0, 1), analytic::coaxial_disks(15.609, 52.8, 0.00026994), 1e-9);
     for (double tol : {1e-6, 1e-8}) {
         const FormFactors ff = adaptive(scene, tol);
         for (int i = 0; i < 8; ++i)
@@ -136,7 +131,7 @@ TEST(CurvedSurfaces, AnnulusIsTheDifferenceOfTwoDisks) {
         parse_scene("closed: false\nsurfaces:\n" + disk("a", "[0, 0, 0]", "[0, 0, 1]", 0.5, 0, "[1, 1]") +
                         disk("ring", "[0, 0, 1]", "[0, 0, -1]", 1.5, 0.6, "[2, 2]"),
                     "annulus.yaml");
-    const double exact = coaxial_disks(0.5, 1.5, 1.0) - coaxial_disks(0.5, 0.6, 1.0);
+    const double exact = analytic::coaxial_disks(0.5, 1.5, 1.0) - analytic::coaxial_disks(0.5, 0.6, 1.0);
     const FormFactors ff = adaptive(scene, 1e-10);
     EXPECT_NEAR(surface_factor(scene, ff, 0, 1), exact, 1e-8);
 }
@@ -145,7 +140,7 @@ TEST(CurvedSurfaces, InsideAClosedCanRowsSumToOne) {
     const Scene scene = parse_scene("surfaces:\n" + can("[4, 3]"), "can.yaml");
     const FormFactors ff = adaptive(scene, 1e-10);
     EXPECT_LE(max_row_error(ff), 1e-8);
-    const double dd = coaxial_disks(1.0, 1.0, 2.0);
+    const double dd = analytic::coaxial_disks(1.0, 1.0, 2.0);
     EXPECT_NEAR(surface_factor(scene, ff, 0, 1), dd, 1e-8);
     EXPECT_NEAR(surface_factor(scene, ff, 0, 2), 1.0 - dd, 1e-8);
     // Tube to either end by reciprocity, and to itself by difference: 1 - 2 A_d (1 - F_dd) / A_t.
@@ -171,21 +166,21 @@ TEST(CurvedSurfaces, ConeUnderADiskSeesWhatItsRimsBound) {
     };
     const Scene cone = scene("[0, 0, 2]", 0.5, "0");
     const FormFactors ff = adaptive(cone, 1e-10);
-    EXPECT_NEAR(surface_factor(cone, ff, 0, 1), coaxial_disks(0.5, 1.0, 2.0), 1e-8);
+    EXPECT_NEAR(surface_factor(cone, ff, 0, 1), analytic::coaxial_disks(0.5, 1.0, 2.0), 1e-8);
     double upper = 0.0;
     for (int j = 7; j < 13; ++j) {
         upper += ff.F(0, j);
         EXPECT_NEAR(ff.F(0, j), ff.F(0, 7), 1e-10) << j;  // the same for every azimuth
         EXPECT_LE(err_of(ff, 0, j), 1e-10);
     }
-    EXPECT_NEAR(upper, coaxial_disks(0.5, 0.5, 1.5), 1e-8);
+    EXPECT_NEAR(upper, analytic::coaxial_disks(0.5, 0.5, 1.5), 1e-8);
     EXPECT_EQ(ff.stats.numeric, 0);
     // The frustum's generators are steeper: the lid must be smaller and higher to face them all
     // (a lid of radius 0.5 at height 2 sees the far generators' backs, and takes the numeric path).
     const Scene frustum = scene("[0, 0, 3]", 0.2, "0.4");
     const FormFactors fr = adaptive(frustum, 1e-10);
     EXPECT_NEAR(surface_factor(frustum, fr, 0, 1),
-                coaxial_disks(0.2, 1.0, 3.0) - coaxial_disks(0.2, 0.4, 2.0), 1e-8);
+                analytic::coaxial_disks(0.2, 1.0, 3.0) - analytic::coaxial_disks(0.2, 0.4, 2.0), 1e-8);
     EXPECT_EQ(fr.stats.numeric, 0);
 }
 
@@ -221,7 +216,7 @@ TEST(CurvedSurfaces, InsideAClosedConeRowsSumToOne) {
     ff = adaptive(widening, 1e-10);
     EXPECT_EQ(ff.stats.numeric, 0);
     EXPECT_LE(max_row_error(ff), 1e-9);
-    const double lids = coaxial_disks(0.5, 1.1, 1.2);
+    const double lids = analytic::coaxial_disks(0.5, 1.1, 1.2);
     EXPECT_NEAR(surface_factor(widening, ff, 0, 1), lids, 1e-9);
     EXPECT_NEAR(surface_factor(widening, ff, 0, 2), 1.0 - lids, 1e-9);
     expect_rows_within_estimates(ff, 1e-14);
@@ -356,7 +351,7 @@ TEST(CurvedSurfaces, TwoSidedTubeInABoxCloses) {
     expect_rows_within_estimates(ff, 0.0);
     // The inside sends to the walls what a can's inside sends to its two lids:
     // 2 A_d (1 - F_dd) / A_t, F_dd the coaxial disks' factor (Howell C-41).
-    const double ad = kPi * 0.09, at = 2 * kPi * 0.3, fdd = coaxial_disks(0.3, 0.3, 1.0);
+    const double ad = kPi * 0.09, at = 2 * kPi * 0.3, fdd = analytic::coaxial_disks(0.3, 0.3, 1.0);
     double to_walls = 0.0;
     for (int w = 0; w < 6; ++w) to_walls += surface_factor(scene, ff, 7, w);
     EXPECT_NEAR(to_walls, 2 * ad * (1 - fdd) / at, 1e-8);
@@ -393,7 +388,7 @@ TEST(CurvedSurfaces, TwoSidedShadeInABoxCloses) {
     // Closure within 1e-8 (measured 1.5e-9); the inside sends the walls what a can of that
     // shape's inside sends its lids, (A_b (1 - F_bt) + A_t (1 - F_tb)) / A_side.
     const double ab = kPi * 0.16, at = kPi * 0.0225, side = kPi * 0.55 * std::sqrt(1.0 + 0.25 * 0.25);
-    const double fbt = coaxial_disks(0.4, 0.15, 1.0), ftb = ab * fbt / at;
+    const double fbt = analytic::coaxial_disks(0.4, 0.15, 1.0), ftb = ab * fbt / at;
     expect_cone_in_a_box_closes(0.15, (ab * (1 - fbt) + at * (1 - ftb)) / side);
 }
 

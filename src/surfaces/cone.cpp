@@ -136,7 +136,6 @@ bool FrustumSurface::patch_contour(double s0, double s1, double t0, double t1,
 }
 
 std::optional<ConvexSolid> FrustumSurface::convex_solid() const {
-    if (m_r0 == m_r1) return ConvexSolid{true, m_base, m_frame.axis, m_r0};
     return ConvexSolid{true, m_base, m_frame.axis, m_r0, (m_r1 - m_r0) / m_length};
 }
 
