@@ -113,6 +113,24 @@ void BezierSurface::partials(double s, double t, Vec3* dPds, Vec3* dPdt) const {
     *dPdt = b;
 }
 
+void BezierSurface::point_and_partials(double s, double t, Vec3* p, Vec3* dPds, Vec3* dPdt) const {
+    // point() and partials() from one evaluation of the basis, each sum in their order.
+    double bs[4], ds[4], bt[4], dt[4];
+    bernstein(s, bs, ds);
+    bernstein(t, bt, dt);
+    Vec3 q(0.0), a(0.0), b(0.0);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            const Vec3& c = m_cp[4 * i + j];
+            q += (bt[i] * bs[j]) * c;
+            a += (bt[i] * ds[j]) * c;
+            b += (dt[i] * bs[j]) * c;
+        }
+    *p = q;
+    *dPds = a;
+    *dPdt = b;
+}
+
 Vec3 BezierSurface::unit_normal(double s, double t) const {
     // At a collapsed edge the cross product vanishes; its direction has a limit from inside,
     // taken a little way into the patch, as far as the cross product needs to have digits.
@@ -193,9 +211,9 @@ BezierSurface::Newton BezierSurface::newton(const Cell& c, const Ray& ray, doubl
     const double tol = 1e-13 * m_size;
     const double ws = c.s1 - c.s0, wt = c.t1 - c.t0;
     for (int it = 0; it < 16; ++it) {
-        Vec3 ps, pt;
-        partials(s, t, &ps, &pt);
-        const Vec3 f = point(s, t) - ray.at(lambda);
+        Vec3 p, ps, pt;
+        point_and_partials(s, t, &p, &ps, &pt);
+        const Vec3 f = p - ray.at(lambda);
         if (glm::length(f) <= tol && it > 0) break;
         const Mat3 J(ps, pt, -ray.dir);
         if (!(std::abs(glm::determinant(J)) > 0.0)) return Newton::None;
@@ -219,9 +237,9 @@ BezierSurface::Newton BezierSurface::newton(const Cell& c, const Ray& ray, doubl
 }
 
 void BezierSurface::search(const Cell& c, const Ray& ray, double t_min, double* best, SurfaceHit* hit,
-                           HitSide side) const {
+                           HitSide side, bool* found) const {
     if (c.first_child < 0) {
-        refine(c, sub_patch(c.s0, c.s1, c.t0, c.t1), ray, t_min, best, hit, side, 0, kMaxDepth);
+        refine(c, sub_patch(c.s0, c.s1, c.t0, c.t1), ray, t_min, best, hit, side, 0, kMaxDepth, found);
         return;
     }
     // The halves the ray enters, nearest first: a hit there prunes the others.
@@ -233,18 +251,23 @@ void BezierSurface::search(const Cell& c, const Ray& ray, double t_min, double* 
         if (ray_box(ray, kid.lo, kid.hi, t_min, *best, &entry)) order[n++] = {entry, c.first_child + k};
     }
     std::sort(order.begin(), order.begin() + n);
-    for (int i = 0; i < n; ++i)
-        if (order[i].first < *best) search(m_tree[order[i].second], ray, t_min, best, hit, side);
+    for (int i = 0; i < n && !(found && *found); ++i)
+        if (order[i].first < *best) search(m_tree[order[i].second], ray, t_min, best, hit, side, found);
 }
 
 void BezierSurface::refine(const Cell& c, const std::array<Vec3, 16>& cp, const Ray& ray, double t_min,
-                           double* best, SurfaceHit* hit, HitSide side, int depth, int max_depth) const {
+                           double* best, SurfaceHit* hit, HitSide side, int depth, int max_depth,
+                           bool* found) const {
     SurfaceHit h;
     const Newton n = newton(c, ray, t_min, *best, &h);
     const bool wanted = side == HitSide::Any || h.front;
     if ((n == Newton::Hit || n == Newton::Elsewhere) && wanted) {
         *best = h.dist;
         *hit = h;
+        if (found) {
+            *found = true;
+            return;
+        }
         // In this cell: a nearer crossing inside it would need the ray to fold back within it.
         if (n == Newton::Hit) return;
     }
@@ -257,11 +280,11 @@ void BezierSurface::refine(const Cell& c, const std::array<Vec3, 16>& cp, const 
     quarter(cp, &kids);
     const double rect[4][4] = {
         {c.s0, sm, c.t0, tm}, {sm, c.s1, c.t0, tm}, {c.s0, sm, tm, c.t1}, {sm, c.s1, tm, c.t1}};
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 4 && !(found && *found); ++k) {
         const Cell kc = box_of(rect[k][0], rect[k][1], rect[k][2], rect[k][3], kids[k]);
         double entry = 0.0;
         if (ray_box(ray, kc.lo, kc.hi, t_min, *best, &entry))
-            refine(kc, kids[k], ray, t_min, best, hit, side, depth + 1, max_depth);
+            refine(kc, kids[k], ray, t_min, best, hit, side, depth + 1, max_depth, found);
     }
 }
 
@@ -270,9 +293,18 @@ std::optional<SurfaceHit> BezierSurface::intersect(const Ray& ray, double t_min,
     double entry = 0.0, best = t_max;
     if (!ray_box(ray, m_tree[0].lo, m_tree[0].hi, t_min, t_max, &entry)) return std::nullopt;
     SurfaceHit hit;
-    search(m_tree[0], ray, t_min, &best, &hit, side);
+    search(m_tree[0], ray, t_min, &best, &hit, side, nullptr);
     if (!(best < t_max)) return std::nullopt;
     return hit;
+}
+
+bool BezierSurface::blocks(const Ray& ray, double t_min, double t_max) const {
+    double entry = 0.0, best = t_max;
+    if (!ray_box(ray, m_tree[0].lo, m_tree[0].hi, t_min, t_max, &entry)) return false;
+    SurfaceHit hit;
+    bool found = false;
+    search(m_tree[0], ray, t_min, &best, &hit, HitSide::Any, &found);
+    return found;
 }
 
 double BezierSurface::area(double s0, double s1, double t0, double t1) const {

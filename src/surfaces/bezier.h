@@ -20,6 +20,9 @@ public:
     void partials(double s, double t, Vec3* dPds, Vec3* dPdt) const override;
     std::optional<SurfaceHit> intersect(const Ray& ray, double t_min, double t_max,
                                         HitSide side) const override;
+    // intersect()'s search stopped at the first crossing it finds: the same answer, as the
+    // search takes the same cells in the same order up to there.
+    bool blocks(const Ray& ray, double t_min, double t_max) const override;
     // |dP/ds x dP/dt| by adaptive Gauss-Legendre rules, to about 1e-14 relative.
     double area(double s0, double s1, double t0, double t1) const override;
     // From the control points of the sub-patch (convex hull property): never too small.
@@ -63,11 +66,14 @@ private:
     static void quarter(const std::array<Vec3, 16>& cp, std::array<std::array<Vec3, 16>, 4>* out);
     void split(int cell, int levels);
     // The static tree from cell c (whose box the ray meets) down, then refine() below its leaves.
-    void search(const Cell& c, const Ray& ray, double t_min, double* best, SurfaceHit* hit,
-                HitSide side) const;
+    // With `found`, the first crossing found sets it and ends the search (an occlusion test).
+    void search(const Cell& c, const Ray& ray, double t_min, double* best, SurfaceHit* hit, HitSide side,
+                bool* found) const;
     void refine(const Cell& c, const std::array<Vec3, 16>& cp, const Ray& ray, double t_min, double* best,
-                SurfaceHit* hit, HitSide side, int depth, int max_depth) const;
+                SurfaceHit* hit, HitSide side, int depth, int max_depth, bool* found) const;
     Newton newton(const Cell& c, const Ray& ray, double t_min, double t_max, SurfaceHit* hit) const;
+    // point() and partials() at once, the same bits.
+    void point_and_partials(double s, double t, Vec3* p, Vec3* dPds, Vec3* dPdt) const;
 
     std::array<Vec3, 16> m_cp;
     bool m_pole_t0 = false, m_pole_t1 = false;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <vector>
 
 #include "surfaces/check_surface.h"
 #include "util/error.h"
@@ -171,6 +172,37 @@ TEST(Bezier, TeapotFileHas32PatchesAndIsBounded) {
         }
     }
     EXPECT_NEAR(best, 5 - 3.15, 1e-5);
+}
+
+TEST(Bezier, AnOcclusionTestAnswersAsTheNearestHitDoes) {
+    // blocks() stops at the first crossing its search finds; it must say what intersect() says,
+    // for segments between points of the teapot's patches (they leave and reach the surface, as
+    // between two patches) and across its box, with and without a crossing.
+    const auto patches = read_bezier_file(RADIOSA_SOURCE_DIR "/scenes/teapot.bpt");
+    std::vector<BezierSurface> surfaces;
+    for (const auto& cp : patches) surfaces.emplace_back(cp);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), box(-3.5, 3.5);
+    std::uniform_int_distribution<std::size_t> pick(0, surfaces.size() - 1);
+    int blocked = 0, clear = 0;
+    for (int k = 0; k < 6000; ++k) {
+        const BezierSurface& s = surfaces[pick(rng)];
+        Vec3 a = Vec3(box(rng), box(rng), box(rng) + 1.5), b;
+        if (k % 3 == 0) {  // between two patches' points
+            a = surfaces[pick(rng)].point(unit(rng), unit(rng));
+            b = surfaces[pick(rng)].point(unit(rng), unit(rng));
+        } else if (k % 3 == 1) {  // through a point of s (near its edges too)
+            b = 2.0 * s.point(unit(rng), unit(rng)) - a;
+        } else {
+            b = Vec3(box(rng), box(rng), box(rng) + 1.5);
+        }
+        const Ray ray{a, b - a};
+        const bool hit = s.intersect(ray, 1e-9, 1.0 - 1e-9, HitSide::Any).has_value();
+        EXPECT_EQ(s.blocks(ray, 1e-9, 1.0 - 1e-9), hit) << k;
+        (hit ? blocked : clear) += 1;
+    }
+    EXPECT_GT(blocked, 1500);
+    EXPECT_GT(clear, 1500);
 }
 
 TEST(Bezier, FileErrorsNameTheirLine) {
