@@ -192,4 +192,46 @@ TEST(Sensor, UnderAPlateOrABallTheCeilingLosesTheirConeInClosedForm) {
     }
 }
 
+TEST(Sensor, InsideAClosedConeSeesItsSideAndLidInClosedForm) {
+    // A sensor on the base of a frustum closed by a lid, off its axis and facing up: the cone's
+    // solid holds it, so the side cannot block its own patches and every patch takes its
+    // contour. The lid is Howell's off-axis point-to-disk formula (B-13), the side what is left
+    // of the hemisphere.
+    const Scene frustum = sensor_scene(
+        "  - {name: side, type: cone, base: [0, 0, 0], axis: [0, 0, 1.2], radius: 1, top_radius: 0.4, "
+        "facing: inward, patches: [6, 3], reflectance: [0, 0, 0]}\n"
+        "  - {name: lid, type: disk, center: [0, 0, 1.2], normal: [0, 0, -1], radius: 0.4, patches: [4, 2], "
+        "reflectance: [0, 0, 0]}\n");
+    const double a = 0.3, h = 1.2, r = 0.4;
+    const double z = h * h + a * a + r * r;
+    const double lid = 0.5 * (1.0 - (h * h + a * a - r * r) / std::sqrt(z * z - 4.0 * a * a * r * r));
+    const SensorFactors s = sensor_factors(SceneGeometry(frustum), Vec3(a, 0, 0), Vec3(0, 0, 1), 1e-10, true);
+    ASSERT_EQ(s.F.size(), 26u);
+    double side = 0.0, top = 0.0;
+    for (int j = 0; j < 18; ++j) side += s.F[static_cast<std::size_t>(j)];
+    for (int j = 18; j < 26; ++j) top += s.F[static_cast<std::size_t>(j)];
+    EXPECT_NEAR(top, lid, 1e-10);
+    EXPECT_NEAR(side, 1.0 - lid, 1e-9);
+    EXPECT_EQ(s.closed_form, 26);
+}
+
+TEST(Sensor, APointedConeHoldsASensorWhereItsRadiusAtThatHeightDoes) {
+    // A pointed cone of radius 0.5 and height 1 split 6 x 3, sensors at height 0.3 facing up,
+    // where its radius is 0.35: at 0.3 from the axis the sensor sees all of the inside above it,
+    // the two upper bands' twelve patches each by its contour (the band it stands in is half
+    // behind it: cubature); at 0.4 it is outside (the base's radius would hold it) and sees only
+    // the side's back, no patch.
+    const Scene pointed = sensor_scene(
+        "  - {name: side, type: cone, base: [0, 0, 0], axis: [0, 0, 1], radius: 0.5, top_radius: 0, "
+        "facing: inward, patches: [6, 3], reflectance: [0, 0, 0]}\n");
+    const SceneGeometry g(pointed);
+    const SensorFactors in = sensor_factors(g, Vec3(0.3, 0, 0.3), Vec3(0, 0, 1), 1e-10, true);
+    double all = 0.0;
+    for (const double f : in.F) all += f;
+    EXPECT_NEAR(all, 1.0, 1e-9);
+    EXPECT_EQ(in.closed_form, 12);
+    const SensorFactors out = sensor_factors(g, Vec3(0.4, 0, 0.3), Vec3(0, 0, 1), 1e-10, true);
+    for (std::size_t j = 0; j < out.F.size(); ++j) EXPECT_NEAR(out.F[j], 0.0, 1e-12) << j;
+}
+
 }  // namespace radiosa
