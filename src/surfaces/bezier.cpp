@@ -288,23 +288,24 @@ void BezierSurface::refine(const Cell& c, const std::array<Vec3, 16>& cp, const 
     }
 }
 
-std::optional<SurfaceHit> BezierSurface::intersect(const Ray& ray, double t_min, double t_max,
-                                                   HitSide side) const {
+std::optional<SurfaceHit> BezierSurface::crossing(const Ray& ray, double t_min, double t_max, HitSide side,
+                                                  bool first) const {
     double entry = 0.0, best = t_max;
     if (!ray_box(ray, m_tree[0].lo, m_tree[0].hi, t_min, t_max, &entry)) return std::nullopt;
     SurfaceHit hit;
-    search(m_tree[0], ray, t_min, &best, &hit, side, nullptr);
+    bool found = false;
+    search(m_tree[0], ray, t_min, &best, &hit, side, first ? &found : nullptr);
     if (!(best < t_max)) return std::nullopt;
     return hit;
 }
 
+std::optional<SurfaceHit> BezierSurface::intersect(const Ray& ray, double t_min, double t_max,
+                                                   HitSide side) const {
+    return crossing(ray, t_min, t_max, side, false);
+}
+
 bool BezierSurface::blocks(const Ray& ray, double t_min, double t_max) const {
-    double entry = 0.0, best = t_max;
-    if (!ray_box(ray, m_tree[0].lo, m_tree[0].hi, t_min, t_max, &entry)) return false;
-    SurfaceHit hit;
-    bool found = false;
-    search(m_tree[0], ray, t_min, &best, &hit, HitSide::Any, &found);
-    return found;
+    return crossing(ray, t_min, t_max, HitSide::Any, true).has_value();
 }
 
 double BezierSurface::area(double s0, double s1, double t0, double t1) const {

@@ -74,6 +74,9 @@ private:
     Newton newton(const Cell& c, const Ray& ray, double t_min, double t_max, SurfaceHit* hit) const;
     // point() and partials() at once, the same bits.
     void point_and_partials(double s, double t, Vec3* p, Vec3* dPds, Vec3* dPdt) const;
+    // The nearest crossing, or with `first` the first one the search finds.
+    std::optional<SurfaceHit> crossing(const Ray& ray, double t_min, double t_max, HitSide side,
+                                       bool first) const;
 
     std::array<Vec3, 16> m_cp;
     bool m_pole_t0 = false, m_pole_t1 = false;
