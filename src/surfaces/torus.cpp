@@ -44,8 +44,11 @@ std::optional<SurfaceHit> TorusSurface::intersect(const Ray& ray, double t_min, 
     // The roots over the whole chord through the torus's ball, then those in (t_min, t_max):
     // a root's last bits do not depend on the range asked for (a BVH and a loop over the
     // surfaces ask with different t_max and must find the same hit).
-    for (const double x :
-         real_roots({k * k - 4.0 * R2 * c, -8.0 * R2 * b, 2.0 * k - 4.0 * R2 * a, 0.0, 1.0}, -reach, reach)) {
+    const double coeffs[5] = {k * k - 4.0 * R2 * c, -8.0 * R2 * b, 2.0 * k - 4.0 * R2 * a, 0.0, 1.0};
+    double roots[4];
+    const int count = real_roots(coeffs, 5, -reach, reach, roots);
+    for (int q = 0; q < count; ++q) {
+        const double x = roots[q];
         const double dist = (x + shift) / len;
         if (!(dist > t_min && dist < t_max)) continue;
         const Vec3 p = ol + x * dl;

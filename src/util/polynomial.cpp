@@ -7,21 +7,21 @@ namespace radiosa {
 
 namespace {
 
-double eval(const std::vector<double>& c, double x) {
+double eval(const double* c, int n, double x) {
     double v = 0.0;
-    for (size_t k = c.size(); k-- > 0;) v = v * x + c[k];
+    for (int k = n; k-- > 0;) v = v * x + c[k];
     return v;
 }
 
 // The root of c in [a, b], where c is monotone and c(a), c(b) differ in sign: Newton steps, with
 // a bisection whenever a step would leave the bracket or shrink it too slowly; it stops at
 // adjacent doubles or a step below 1e-15 of the bracket's scale.
-double root_between(const std::vector<double>& c, double a, double b, double fa) {
+double root_between(const double* c, int n, double a, double b, double fa) {
     const double scale = std::max(std::abs(a), std::abs(b)) + (b - a);
     double x = 0.5 * (a + b), width = b - a;
     for (int i = 0; i < 200; ++i) {
         double f = 0.0, df = 0.0;
-        for (size_t k = c.size(); k-- > 0;) {
+        for (int k = n; k-- > 0;) {
             df = df * x + f;
             f = f * x + c[k];
         }
@@ -41,37 +41,42 @@ double root_between(const std::vector<double>& c, double a, double b, double fa)
 
 }  // namespace
 
-std::vector<double> real_roots(const std::vector<double>& coeffs, double lo, double hi) {
-    std::vector<double> c = coeffs;
-    while (c.size() > 1 && c.back() == 0.0) c.pop_back();
-    std::vector<double> roots;
-    if (c.size() <= 1 || !(lo < hi)) return roots;
-    if (c.size() == 2) {
+int real_roots(const double* coeffs, int count, double lo, double hi, double* roots) {
+    if (count > kMaxPolynomialDegree + 1) return 0;
+    double c[kMaxPolynomialDegree + 1];
+    int n = count;
+    std::copy(coeffs, coeffs + count, c);
+    while (n > 1 && c[n - 1] == 0.0) --n;
+    int found = 0;
+    if (n <= 1 || !(lo < hi)) return found;
+    if (n == 2) {
         const double x = -c[0] / c[1];
-        if (x >= lo && x <= hi) roots.push_back(x);
-        return roots;
+        if (x >= lo && x <= hi) roots[found++] = x;
+        return found;
     }
     // The derivative's roots split [lo, hi] into pieces on which c is monotone.
-    std::vector<double> d(c.size() - 1);
-    for (size_t k = 1; k < c.size(); ++k) d[k - 1] = static_cast<double>(k) * c[k];
-    std::vector<double> knots = {lo};
-    for (double x : real_roots(d, lo, hi))
-        if (x > knots.back()) knots.push_back(x);
-    if (hi > knots.back()) knots.push_back(hi);
-    for (size_t i = 0; i + 1 < knots.size(); ++i) {
+    double d[kMaxPolynomialDegree], inner[kMaxPolynomialDegree], knots[kMaxPolynomialDegree + 2];
+    for (int k = 1; k < n; ++k) d[k - 1] = static_cast<double>(k) * c[k];
+    int nk = 0;
+    knots[nk++] = lo;
+    const int ni = real_roots(d, n - 1, lo, hi, inner);
+    for (int q = 0; q < ni; ++q)
+        if (inner[q] > knots[nk - 1]) knots[nk++] = inner[q];
+    if (hi > knots[nk - 1]) knots[nk++] = hi;
+    for (int i = 0; i + 1 < nk; ++i) {
         const double a = knots[i], b = knots[i + 1];
-        const double fa = eval(c, a), fb = eval(c, b);
+        const double fa = eval(c, n, a), fb = eval(c, n, b);
         double x;
         if (fa == 0.0)
             x = a;
         else if (fb == 0.0 || (fa < 0.0) == (fb < 0.0))
             continue;  // b's root (if any) is found on the next piece
         else
-            x = root_between(c, a, b, fa);
-        if (roots.empty() || x > roots.back()) roots.push_back(x);
+            x = root_between(c, n, a, b, fa);
+        if (found == 0 || x > roots[found - 1]) roots[found++] = x;
     }
-    if (eval(c, hi) == 0.0 && (roots.empty() || hi > roots.back())) roots.push_back(hi);
-    return roots;
+    if (eval(c, n, hi) == 0.0 && (found == 0 || hi > roots[found - 1])) roots[found++] = hi;
+    return found;
 }
 
 }  // namespace radiosa

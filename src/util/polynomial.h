@@ -3,12 +3,14 @@
 // its derivative (where it is monotone) and bisecting each sign change: robust where the closed
 // forms for cubics and quartics lose digits, and exact in its bookkeeping (every simple root in the
 // interval is found, in increasing order).
-#include <vector>
 
 namespace radiosa {
 
-// coeffs[k] multiplies x^k (degree = coeffs.size() - 1, at most 8). Roots of even multiplicity
-// (a tangent ray) are found only where rounding gives them a sign change.
-std::vector<double> real_roots(const std::vector<double>& coeffs, double lo, double hi);
+// coeffs[k] multiplies x^k, k < count (degree count - 1, at most kMaxPolynomialDegree: more
+// coefficients find no roots). The roots go to roots[] (room for the degree's count; nothing is
+// allocated) and their number is returned. Roots of even multiplicity (a tangent ray) are found
+// only where rounding gives them a sign change.
+inline constexpr int kMaxPolynomialDegree = 8;
+int real_roots(const double* coeffs, int count, double lo, double hi, double* roots);
 
 }  // namespace radiosa
