@@ -45,6 +45,7 @@ TEST(Cli, RendersImageAndReport) {
     EXPECT_EQ(j["form_factor_method"], "adaptive");
     EXPECT_EQ(j["form_factor_tolerance"], 1e-6);
     EXPECT_TRUE(j["gauss_points"].is_null());
+    EXPECT_EQ(j["numeric_inner"], "rules");
     for (const char* k : {"form_factors_s", "solve_s", "render_s", "total_s"})
         EXPECT_GE(j["timings"][k].get<double>(), 0.0);
     EXPECT_LT(j["reciprocity_abs_error"].get<double>(), 1e-6);
@@ -53,6 +54,23 @@ TEST(Cli, RendersImageAndReport) {
     EXPECT_LT(j["energy_balance_error"].get<double>(), 2.3e-6);  // measured 2.25e-7 for image A
     // Nothing but the outputs is left behind (no temporary files).
     EXPECT_EQ(std::distance(fs::directory_iterator(d), fs::directory_iterator()), 3);
+    fs::remove_all(d);
+}
+
+TEST(Cli, NumericInnerLinesIsReportedAndBelongsToTheAdaptiveMethod) {
+    const fs::path d = fresh_dir("radiosa_cli_lines");
+    const std::string report = (d / "r.json").string();
+    CliRun r = run({"formfactors", kScene, "--ff-tolerance", "1e-3", "--ff-numeric-inner", "lines",
+                    "--no-cache", "--report", report, "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(read_json(report)["numeric_inner"], "lines");
+    r = run(
+        {"formfactors", kScene, "--ff-method", "hierarchical", "--ff-numeric-inner", "lines", "--no-cache"});
+    EXPECT_EQ(r.code, 1);
+    EXPECT_EQ(
+        r.err,
+        "error: --ff-numeric-inner lines belongs to the adaptive method, not hierarchical: use --ff-method "
+        "adaptive, or leave it out\n");
     fs::remove_all(d);
 }
 

@@ -74,9 +74,11 @@ TEST(SurfaceRegistry, EveryFormFactorOptionReachesTheCacheKey) {
     no_visibility.visibility = false;
     FormFactorOptions one_direction;
     one_direction.one_direction = true;
+    FormFactorOptions lines;
+    lines.numeric_lines = true;
     for (const FormFactorOptions& o :
          {FormFactorOptions(), FormFactorOptions::adaptive(1e-7), no_visibility, FormFactorOptions::gauss(6),
-          FormFactorOptions::gauss(7), one_direction})
+          FormFactorOptions::gauss(7), one_direction, lines})
         EXPECT_TRUE(keys.insert(form_factor_key(s, o).hex()).second) << describe(o);
 }
 

@@ -65,6 +65,13 @@ void add_form_factor_options(CLI::App* cmd, FormFactorRequest* req) {
             },
             "0 or [1e-12 - 0.1]"))
         ->excludes(p);
+    cmd->add_option("--ff-numeric-inner", req->numeric_inner,
+                    "Adaptive: the inner integral of pairs without a closed form (curved receivers, "
+                    "general occluders): rules (two fixed Gauss rules, the default) or lines (follows "
+                    "shadow edges by bisection: estimates that hold, at several times the cost; "
+                    "docs/accuracy.md); overrides the scene's form_factors.numeric_inner")
+        ->check(CLI::IsMember({"rules", "lines"}))
+        ->excludes(p);
     cmd->add_option("--ff-method", req->method,
                     "Form-factor method: adaptive (the default), gauss (the paper's rule, -p points) or "
                     "hierarchical (links between groups of patches, no N x N matrix; docs/scale.md)")

@@ -59,6 +59,8 @@ void add_form_factor_method(nlohmann::json& j, const FormFactorOptions& o) {
     j["receiver_tolerance"] = o.method == FormFactorMethod::Hierarchical && o.receiver_tolerance > 0.0
                                   ? json(o.receiver_tolerance)
                                   : json(nullptr);
+    j["numeric_inner"] =
+        o.method == FormFactorMethod::Adaptive ? json(o.numeric_lines ? "lines" : "rules") : json(nullptr);
     j["visibility"] = o.visibility;
 }
 

@@ -83,7 +83,8 @@ CacheKey form_factor_key(const Scene& scene, const FormFactorOptions& options) {
     w.f64(adaptive ? options.tolerance : 0.0);
     w.u32(static_cast<std::uint32_t>(adaptive ? 0 : options.gauss_points));
     w.u32(options.visibility ? 1 : 0);
-    if (options.one_direction) w.str("one direction");  // absent: the keys of earlier builds
+    if (options.one_direction) w.str("one direction");        // absent: the keys of earlier builds
+    if (options.numeric_lines) w.str("numeric inner lines");  // likewise
     w.u64(scene.surfaces.size());
     for (const SurfaceDesc& s : scene.surfaces) {
         w.u32(s.type->key_id);

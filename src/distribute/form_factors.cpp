@@ -54,6 +54,7 @@ Bytes encode(const Order& o) {
     w.i64(o.options.gauss_points);
     w.u8(o.options.visibility);
     w.u8(o.options.culling);
+    w.u8(o.options.numeric_lines);
     w.raw(o.key.bytes.data(), o.key.bytes.size());
     w.i64(o.threads);
     w.u32(static_cast<std::uint32_t>(o.bounds.size()));
@@ -71,6 +72,7 @@ Order decode(const Bytes& bytes) {
     o.options.gauss_points = static_cast<int>(r.i64());
     o.options.visibility = r.u8() != 0;
     o.options.culling = r.u8() != 0;
+    o.options.numeric_lines = r.u8() != 0;
     for (auto& b : o.key.bytes) b = r.u8();
     o.threads = static_cast<int>(r.i64());
     o.bounds.resize(r.u32());

@@ -579,4 +579,43 @@ TEST(CurvedSurfaces, TorusInABoxCloses) {
     EXPECT_GT(ff.F(6, 9), 0.0);  // the outer equator's patches see the inner half across the hole
 }
 
+TEST(CurvedSurfaces, AFlatBezierOccluderCastsItsQuadsShadowAlongLines) {
+    // Two unit squares facing each other across a gap of 1, a square of side 0.5 halfway between
+    // as a quad (its shadow in closed form) or as a flat Bezier patch (the numeric path). Its
+    // shadow's edges cross the far square, where the fixed rules' error stops at 2.2e-4 whatever
+    // the tolerance; along lines the entry meets its tolerance and its estimate.
+    std::string quads =
+        "surfaces:\n"
+        "  - {name: lo, type: quad, corners: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], patches: [1, 1], "
+        "reflectance: [0.5, 0.5, 0.5]}\n"
+        "  - {name: hi, type: quad, corners: [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]], patches: [1, 1], "
+        "reflectance: [0.5, 0.5, 0.5]}\n";
+    std::string points;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+            points += (points.empty() ? "[" : ", [") + std::to_string(0.3 + 0.5 * i / 3.0) + ", " +
+                      std::to_string(0.2 + 0.5 * j / 3.0) + ", 0.5]";
+    const std::string as_quad =
+        quads +
+        "  - {name: mid, type: quad, two_sided: true, corners: [[0.3, 0.2, 0.5], [0.8, 0.2, "
+        "0.5], [0.8, 0.7, 0.5], [0.3, 0.7, 0.5]], patches: [1, 1], reflectance: [0.5, 0.5, "
+        "0.5]}\n";
+    const std::string as_bezier = quads + "  - {name: mid, type: bezier, two_sided: true, control_points: [" +
+                                  points + "], patches: [1, 1], reflectance: [0.5, 0.5, 0.5]}\n";
+    const FormFactors exact = adaptive(parse_scene(as_quad, "quad.yaml"), 1e-12);
+    EXPECT_EQ(exact.stats.numeric, 0);
+    FormFactorOptions o = FormFactorOptions::adaptive(1e-5);
+    o.numeric_lines = true;
+    const FormFactors lines = compute_form_factors(SceneGeometry(parse_scene(as_bezier, "bezier.yaml")), o);
+    EXPECT_GT(lines.stats.numeric, 0);
+    // F(lo -> hi) with the quad's shadow (its closed form at 1e-12). The control points along each
+    // edge are collinear, so the patch is the square exactly (their rounding to six digits only
+    // moves its parameters).
+    const double want = exact.F(0, 1);
+    EXPECT_NEAR(want, 0.101858934289, 1e-11);
+    EXPECT_NEAR(lines.F(0, 1), want, 3e-6);
+    EXPECT_LE(std::abs(lines.F(0, 1) - want), lines.error[1]);
+    EXPECT_LE(lines.error[1], 1e-5);
+}
+
 }  // namespace radiosa

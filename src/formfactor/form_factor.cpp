@@ -21,6 +21,7 @@
 #include "formfactor/planar_receiver.h"
 #include "formfactor/polygon_polygon.h"
 #include "formfactor/sphere_receiver.h"
+#include "formfactor/visible_lines.h"
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
 #include "util/gauss_legendre.h"
@@ -209,6 +210,28 @@ public:
             }
     }
 
+    // F(dx -> patch j) for x with normal ni (|ni| = da) along lines (numeric_inner: lines,
+    // formfactor/visible_lines.h), to about abs_tol; `near` lists the blockers that may meet a
+    // segment from x to patch j (empty: none can).
+    LineIntegral inner_by_lines(const Vec3& x, const Vec3& ni, double da, const Patch& pj, const Surface& sj,
+                                const BlockerSet& guard, const std::vector<int>& near, double abs_tol,
+                                long long* tests) const {
+        const double min_l2 = 1e-24 * m_geo.scale() * m_geo.scale();
+        Vec3 e;  // from x to the receiver's point the kernel last took
+        auto kernel = [&](double u, double w, double* k) {
+            Vec3 y, nj;
+            sj.point_and_normal(u, w, &y, &nj);
+            e = y - x;
+            const double ci = glm::dot(ni, e), cj = -glm::dot(nj, e), l2 = glm::dot(e, e);
+            *k = l2 > 0.0 ? ci * cj / (kPi * da * l2 * l2) : 0.0;
+            return ci > 0.0 && cj > 0.0 && l2 > min_l2;
+        };
+        auto blocked = [&] {
+            return !near.empty() && guard.blocked_among(x, e, 1e-9, 1.0 - 1e-9, tests, near);
+        };
+        return integrate_by_lines(Rect{pj.s0, pj.s1, pj.t0, pj.t1}, kernel, blocked, abs_tol);
+    }
+
     // A_i F_ij with both integrals by adaptive quadrature (any surfaces, any occluders).
     Estimate area_times_f_numeric(int i, int j, const std::vector<int>& blockers, double tol,
                                   FormFactorStats* st) const {
@@ -218,9 +241,9 @@ public:
         const Surface& sj = m_geo.surface(pj.surface);
         const BlockerSet guard(m_geo, m_opt.visibility ? blockers : std::vector<int>{});
         // The inner integral by two Gauss rules over the whole receiver: their difference
-        // estimates its error. (Adaptive inner integration with visibility tests costs orders
-        // of magnitude more and is left out; this path serves curved receivers and general
-        // occluders, where the closed form does not apply.)
+        // estimates its error. A shadow's edge inside them converges like their spacing, and a
+        // sliver no node sees (along the patch's edges, where Gauss nodes never are) leaves both
+        // rules agreeing on the same wrong value: numeric_inner: lines follows the edges instead.
         std::vector<InnerNode> nodes;  // the fine rule's, then the coarse rule's
         add_inner_nodes(pj, sj, m_inner_fine, &nodes);
         const std::size_t fine_count = nodes.size();
@@ -235,12 +258,26 @@ public:
         if (!guard.empty()) ends = bound_of(nodes);
         double inner_err = 0.0;
         long long tests = 0;
-        std::vector<int> near;
+        std::vector<int> near, near_patch;
+        // Lines: a node's inner integral may be off by this much (F, over all of patch i) before
+        // it spends more than the outer rule's share of the tolerance.
+        const double node_budget = 0.5 * tol * std::min(pi.area, pj.area) / pi.area;
         auto g = [&](double s, double t) {
             Vec3 x, ni;
             si.point_and_normal(s, t, &x, &ni);
             const double da = glm::length(ni);
             if (!(da > 0.0)) return 0.0;
+            // Lines: wherever a blocker may come between x and patch j.
+            auto by_lines = [&](const std::vector<int>& near_x) {
+                return inner_by_lines(x, ni, da, pj, sj, guard, near_x, 0.5 * node_budget / kSafety, &tests);
+            };
+            if (m_opt.numeric_lines && !guard.empty())
+                guard.near_list(x, pj.bound.center, pj.bound.radius, &near_patch);
+            if (m_opt.numeric_lines && !guard.empty() && !near_patch.empty()) {
+                const LineIntegral v = by_lines(near_patch);
+                inner_err = std::max(inner_err, kSafety * v.error);
+                return da * v.value;
+            }
             if (!guard.empty()) guard.near_list(x, ends.center, ends.radius, &near);
             auto rule_sum = [&](std::span<const InnerNode> rule_nodes) {
                 double sum = 0.0;
@@ -258,7 +295,15 @@ public:
                 return sum * hs * ht;
             };
             const double fine = rule_sum(fine_nodes), coarse = rule_sum(coarse_nodes);
-            inner_err = std::max(inner_err, kSafety * std::abs(fine - coarse));
+            const double err = kSafety * std::abs(fine - coarse);
+            // Lines, nothing in the way: where the rules disagree beyond the node's share.
+            if (m_opt.numeric_lines && err > node_budget) {
+                if (const LineIntegral v = by_lines({}); kSafety * v.error < err) {
+                    inner_err = std::max(inner_err, kSafety * v.error);
+                    return da * v.value;
+                }
+            }
+            inner_err = std::max(inner_err, err);
             return da * fine;
         };
         Estimate e =

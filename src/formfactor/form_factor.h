@@ -58,6 +58,11 @@ struct FormFactorOptions {
     // are reciprocal by construction, as the links above them are); their closed forms then
     // stop at the tolerance too, instead of at round-off.
     bool one_direction = false;
+    // Adaptive: the numeric path's inner integral (curved receivers, general occluders) along
+    // lines whose visibility changes are placed by bisection, wherever a blocker may come
+    // between or the two fixed rules disagree (numeric_inner: lines); false: the two fixed rules
+    // alone (numeric_inner: rules, the default).
+    bool numeric_lines = false;
     // Leave out the work proven useless: pairs that cannot see each other (no quadrature) and
     // surfaces that cannot come between a pair (no occlusion tests; with none left, the closed
     // form applies). false integrates every pair against every surface: a diagnostic that

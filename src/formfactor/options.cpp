@@ -61,7 +61,8 @@ std::string describe(const FormFactorOptions& o) {
         case FormFactorMethod::Fixed:
             return fmt::format("Gauss p = {} ({} terms/pair)", p, p * p * p * p);
         case FormFactorMethod::Adaptive:
-            return fmt::format("adaptive, tolerance {:.0e}", o.tolerance);
+            return fmt::format("adaptive, tolerance {:.0e}{}", o.tolerance,
+                               o.numeric_lines ? ", numeric inner integrals along lines" : "");
         case FormFactorMethod::Hierarchical:
             if (o.receiver_tolerance > 0.0)
                 return fmt::format(

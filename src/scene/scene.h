@@ -64,6 +64,7 @@ struct FormFactorSettings {
     // Hierarchical: the tolerance on each link's receiver misfit (FormFactorOptions); 0: off,
     // none: automatic.
     std::optional<double> receiver_tolerance;
+    bool numeric_lines = false;  // numeric_inner: lines (FormFactorOptions)
 };
 
 // The scene file's solve block: a target on the radiosity itself.

@@ -228,8 +228,18 @@ FormFactorSettings read_form_factor_settings(const YAML::Node& node, const std::
             throw Error(loc_of(*t, file), "receiver_tolerance must not exceed tolerance (" +
                                               m.optional("tolerance")->Scalar() + "), got " + t->Scalar());
     }
+    if (auto k = m.optional("numeric_inner")) {
+        const std::string v = yaml_string(*k, file, "numeric_inner");
+        if (v != "rules" && v != "lines")
+            throw Error(loc_of(*k, file), "numeric_inner must be rules or lines, got '" + v + "'");
+        if (!method.empty() && method != "adaptive")
+            throw Error(loc_of(*k, file), "numeric_inner belongs to method: adaptive, not " + method);
+        if (f.gauss_points)
+            throw Error(loc_of(*k, file), "numeric_inner belongs to method: adaptive, not to gauss_points");
+        f.numeric_lines = v == "lines";
+    }
     f.visibility = m.boolean_or("visibility", true);
-    m.reject_unknown_keys("method, tolerance | gauss_points, receiver_tolerance, visibility");
+    m.reject_unknown_keys("method, tolerance | gauss_points, receiver_tolerance, numeric_inner, visibility");
     return f;
 }
 

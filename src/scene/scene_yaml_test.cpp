@@ -190,6 +190,21 @@ TEST(SceneYaml, ReceiverToleranceBelongsToTheHierarchicalMethod) {
               0.0);  // --ff-receiver-tolerance 0
 }
 
+TEST(SceneYaml, NumericInnerBelongsToTheAdaptiveMethod) {
+    const std::string body = with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n");
+    EXPECT_TRUE(
+        parse_scene("form_factors: {numeric_inner: lines}\n" + body, "s.yaml").form_factors.numeric_lines);
+    EXPECT_FALSE(parse_scene("form_factors: {method: adaptive, numeric_inner: rules}\n" + body, "s.yaml")
+                     .form_factors.numeric_lines);
+    EXPECT_FALSE(parse_scene(body, "s.yaml").form_factors.numeric_lines);  // rules by default
+    EXPECT_EQ(parse_error("form_factors: {numeric_inner: strips}\n" + body),
+              "s.yaml:1:31: numeric_inner must be rules or lines, got 'strips'");
+    EXPECT_EQ(parse_error("form_factors: {method: hierarchical, numeric_inner: lines}\n" + body),
+              "s.yaml:1:53: numeric_inner belongs to method: adaptive, not hierarchical");
+    EXPECT_EQ(parse_error("form_factors: {gauss_points: 4, numeric_inner: lines}\n" + body),
+              "s.yaml:1:48: numeric_inner belongs to method: adaptive, not to gauss_points");
+}
+
 TEST(SceneYaml, UnknownKeyNamesItsLine) {
     EXPECT_EQ(parse_error(with_surface(kQuadBody + "    reflectance: [0, 0, 0]\n    colour: [1, 1, 1]\n")),
               "s.yaml:7:5: unknown key 'colour' in surface #1 (allowed: name, type, corners | origin + "
