@@ -210,13 +210,16 @@ public:
             }
     }
 
+    // Squared distances below this are a point meeting itself at the scene's scale.
+    double min_l2() const { return 1e-24 * m_geo.scale() * m_geo.scale(); }
+
     // F(dx -> patch j) for x with normal ni (|ni| = da) along lines (numeric_inner: lines,
     // formfactor/visible_lines.h), to about abs_tol; `near` lists the blockers that may meet a
     // segment from x to patch j (empty: none can).
     LineIntegral inner_by_lines(const Vec3& x, const Vec3& ni, double da, const Patch& pj, const Surface& sj,
                                 const BlockerSet& guard, const std::vector<int>& near, double abs_tol,
                                 long long* tests) const {
-        const double min_l2 = 1e-24 * m_geo.scale() * m_geo.scale();
+        const double min_l2 = this->min_l2();
         Vec3 e;  // from x to the receiver's point the kernel last took
         auto kernel = [&](double u, double w, double* k) {
             Vec3 y, nj;
@@ -251,7 +254,7 @@ public:
         const std::span<const InnerNode> fine_nodes(nodes.data(), fine_count),
             coarse_nodes(nodes.data() + fine_count, nodes.size() - fine_count);
         const double hs = 0.5 * (pj.s1 - pj.s0), ht = 0.5 * (pj.t1 - pj.t0);
-        const double min_l2 = 1e-24 * m_geo.scale() * m_geo.scale();
+        const double min_l2 = this->min_l2();
         // The ball holding both rules' inner nodes: each outer point x asks only the blockers
         // that may come near a segment from x to it, as in integrate().
         BoundingSphere ends{Vec3(0.0), 0.0};
@@ -271,12 +274,13 @@ public:
             auto by_lines = [&](const std::vector<int>& near_x) {
                 return inner_by_lines(x, ni, da, pj, sj, guard, near_x, 0.5 * node_budget / kSafety, &tests);
             };
-            if (m_opt.numeric_lines && !guard.empty())
+            if (m_opt.numeric_lines && !guard.empty()) {
                 guard.near_list(x, pj.bound.center, pj.bound.radius, &near_patch);
-            if (m_opt.numeric_lines && !guard.empty() && !near_patch.empty()) {
-                const LineIntegral v = by_lines(near_patch);
-                inner_err = std::max(inner_err, kSafety * v.error);
-                return da * v.value;
+                if (!near_patch.empty()) {
+                    const LineIntegral v = by_lines(near_patch);
+                    inner_err = std::max(inner_err, kSafety * v.error);
+                    return da * v.value;
+                }
             }
             if (!guard.empty()) guard.near_list(x, ends.center, ends.radius, &near);
             auto rule_sum = [&](std::span<const InnerNode> rule_nodes) {

@@ -41,11 +41,9 @@ double root_between(const double* c, int n, double a, double b, double fa) {
 
 }  // namespace
 
-int real_roots(const double* coeffs, int count, double lo, double hi, double* roots) {
+int real_roots(const double* c, int count, double lo, double hi, double* roots) {
     if (count > kMaxPolynomialDegree + 1) return 0;
-    double c[kMaxPolynomialDegree + 1];
-    int n = count;
-    std::copy(coeffs, coeffs + count, c);
+    int n = count;  // leading zeros left out
     while (n > 1 && c[n - 1] == 0.0) --n;
     int found = 0;
     if (n <= 1 || !(lo < hi)) return found;
