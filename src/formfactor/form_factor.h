@@ -114,9 +114,9 @@ std::string describe(const FormFactorOptions& o);
 
 // Bumped whenever a code change alters computed form factors, so that cached matrices from
 // older builds are recomputed rather than trusted (it is part of the cache key).
-inline constexpr int kFormFactorAlgorithmVersion = 23;
+inline constexpr int kFormFactorAlgorithmVersion = 24;
 // The same for the hierarchy's links (formfactor/hierarchy.h), in their cache key.
-inline constexpr int kHierarchyAlgorithmVersion = 18;
+inline constexpr int kHierarchyAlgorithmVersion = 19;
 
 struct FormFactorStats {
     long long pairs = 0;             // unordered patch pairs, self pairs of concave surfaces included

@@ -298,11 +298,12 @@ std::pair<double, double> fingerprint(const FormFactors& ff) {
 // be off, which these scenes do not have; 20 only pairs past balls whose shadows overlap, the
 // balls' box, recorded at 20; 21 only pairs of a ball and a flat patch whose bounding ball
 // reaches into it, and the insides of closed cones, which none of them has; 22 and 23 only flat
-// receivers within a twentieth of a region's size, which none of them has either). When
+// receivers within a twentieth of a region's size, which none of them has either; 24 only
+// segments that reach or graze a Bezier patch, which none of them has). When
 // one moves, bump kFormFactorAlgorithmVersion (and kHierarchyAlgorithmVersion if the links move
 // too), say so in CHANGELOG.md, and record the new values here.
 TEST(FormFactor, ValuesMoveOnlyWithTheAlgorithmVersion) {
-    static_assert(kFormFactorAlgorithmVersion == 23, "record this test's fingerprints for the new version");
+    static_assert(kFormFactorAlgorithmVersion == 24, "record this test's fingerprints for the new version");
     const std::string box = test::cube_faces(1.0, 0.0, 1);
     const std::string two = ", patches: [4, 1], reflectance: [0.8, 0.8, 0.8], two_sided: true}\n";
     const std::array<std::pair<std::string, std::string>, 5> boxes = {{

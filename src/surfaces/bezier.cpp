@@ -69,10 +69,11 @@ bool ray_box(const Ray& ray, const Vec3& lo, const Vec3& hi, double t_min, doubl
     return true;
 }
 
-constexpr int kStaticLevels = 5;  // halvings made once, with the patch: 32 x 32 leaves
-constexpr int kMaxDepth = 10;     // halvings below a leaf whose Newton search fails
-constexpr int kBeforeDepth = 3;   // halvings of a cell the ray leaves the surface from
-constexpr double kSlack = 1e-9;   // a converged (s, t) may lie this far outside its cell
+constexpr int kStaticLevels = 5;     // halvings made once, with the patch: 32 x 32 leaves
+constexpr int kMaxDepth = 10;        // halvings below a leaf whose Newton search fails
+constexpr int kBeforeDepth = 3;      // halvings of a cell the segment leaves or reaches the surface in
+constexpr double kSlack = 1e-9;      // a converged (s, t) may lie this far outside its cell
+constexpr double kEndMargin = 1e-6;  // the most of lambda a segment's end can blur (below)
 
 }  // namespace
 
@@ -228,11 +229,20 @@ BezierSurface::Newton BezierSurface::newton(const Cell& c, const Ray& ray, doubl
     const bool inside = !(s < c.s0 - kSlack || s > c.s1 + kSlack || t < c.t0 - kSlack || t > c.t1 + kSlack);
     if (!inside && (s < -kSlack || s > 1.0 + kSlack || t < -kSlack || t > 1.0 + kSlack)) return Newton::None;
     if (!(lambda > t_min)) return inside ? Newton::Before : Newton::None;
-    if (!(lambda < t_max)) return Newton::None;
+    if (!(lambda < t_max)) return inside ? Newton::Beyond : Newton::None;
+    const double sc = std::clamp(s, 0.0, 1.0), tc = std::clamp(t, 0.0, 1.0);
+    const double along = glm::dot(unit_normal(sc, tc), ray.dir);
+    // A segment's end on the surface is itself a crossing, known to the rounding of its
+    // coordinates across the surface; along a grazing segment that is a stretch of lambda
+    // beside the end, within which a crossing cannot be told from the end's own.
+    const double blur = 1e-14 * (m_size + glm::length(ray.origin) + std::sqrt(dd));
+    const double margin = std::min(kEndMargin, blur / std::abs(along));
+    if (!(lambda > t_min + margin)) return inside ? Newton::Before : Newton::None;
+    if (!(lambda < t_max - margin)) return inside ? Newton::Beyond : Newton::None;
     hit->dist = lambda;
-    hit->s = std::clamp(s, 0.0, 1.0);
-    hit->t = std::clamp(t, 0.0, 1.0);
-    hit->front = glm::dot(unit_normal(hit->s, hit->t), ray.dir) < 0.0;
+    hit->s = sc;
+    hit->t = tc;
+    hit->front = along < 0.0;
     return inside ? Newton::Hit : Newton::Elsewhere;
 }
 
@@ -271,9 +281,10 @@ void BezierSurface::refine(const Cell& c, const std::array<Vec3, 16>& cp, const 
         // In this cell: a nearer crossing inside it would need the ray to fold back within it.
         if (n == Newton::Hit) return;
     }
-    // A crossing at or before t_min (a segment leaving the surface here): a second one in the same
-    // cell needs the surface to bend back within it, so a few more halvings settle it.
-    if (n == Newton::Before) max_depth = std::min(max_depth, depth + kBeforeDepth);
+    // A crossing at or before t_min, or at or beyond t_max (a segment leaving or reaching the
+    // surface here): a second one in the same cell needs the surface to bend back within it, so
+    // a few more halvings settle it.
+    if (n == Newton::Before || n == Newton::Beyond) max_depth = std::min(max_depth, depth + kBeforeDepth);
     if (depth >= max_depth) return;
     const double sm = 0.5 * (c.s0 + c.s1), tm = 0.5 * (c.t0 + c.t1);
     std::array<std::array<Vec3, 16>, 4> kids;

@@ -58,9 +58,11 @@ private:
         int first_child = -1;  // its four halves in m_tree from here, or -1 (a leaf)
     };
     // Newton's method from the cell's centre: a crossing inside the cell within (t_min, t_max), one
-    // at or before t_min (the ray starts on the surface there), or none found.
-    // Elsewhere: a crossing within (t_min, t_max) on the patch but outside the cell.
-    enum class Newton { None, Hit, Elsewhere, Before };
+    // at or before t_min (the ray starts on the surface there), one at or beyond t_max (the
+    // segment ends on it there), or none found; a crossing that the end's rounding could be is
+    // taken as the end (bezier.cpp). Elsewhere: a crossing within (t_min, t_max) on the patch
+    // but outside the cell.
+    enum class Newton { None, Hit, Elsewhere, Before, Beyond };
     Cell make_cell(double s0, double s1, double t0, double t1) const;
     Cell box_of(double s0, double s1, double t0, double t1, const std::array<Vec3, 16>& cp) const;
     static void quarter(const std::array<Vec3, 16>& cp, std::array<std::array<Vec3, 16>, 4>* out);

@@ -205,6 +205,40 @@ TEST(Bezier, AnOcclusionTestAnswersAsTheNearestHitDoes) {
     EXPECT_GT(clear, 1500);
 }
 
+TEST(Bezier, AGrazingSegmentToAConvexPatchIsNotBlockedByIt) {
+    // The paraboloid z = s^2 + t^2 over [0,1]^2, exactly a bicubic patch (z's control values in
+    // each direction 0, 0, 1/3, 1). From a point p of it, a segment rising at the angle theta
+    // above its tangent plane, of length at most tan(theta) / 2 along the plane, stays above
+    // the patch (its height over the plane, lambda tan(theta), exceeds the patch's, lambda^2),
+    // so a segment between its far end and p meets the patch at p alone, which the occlusion
+    // test's range (1e-9, 1 - 1e-9) leaves out: never blocked, however grazing. Newton's method
+    // accepts a point within 1e-10 of the patch as a crossing, and along a grazing segment
+    // such points reach well inside that range from p: the search must not take them.
+    const double a[4] = {0.0, 0.0, 1.0 / 3.0, 1.0};
+    std::array<Vec3, 16> cp;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) cp[4 * i + j] = Vec3(j / 3.0, i / 3.0, a[j] + a[i]);
+    const BezierSurface b(cp);
+    ASSERT_NEAR(b.point(0.3, 0.6).z, 0.45, 1e-15);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), inner(0.1, 0.9), turn(0.0, 6.283185307179586);
+    int blocked = 0, tried = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double s = inner(rng), t = inner(rng), phi = turn(rng);
+        const double slope = std::pow(10.0, -3.0 + 2.0 * unit(rng));  // tan(theta): 1e-3 to 0.1
+        const double len = (0.05 + 0.45 * unit(rng)) * slope;
+        const Vec3 w(std::cos(phi), std::sin(phi), 0.0);
+        const Vec3 p = b.point(s, t);
+        // Along w the patch rises by its gradient (2s, 2t) . w; the segment by that and slope more.
+        const Vec3 q = p + len * Vec3(w.x, w.y, 2.0 * (s * w.x + t * w.y) + slope);
+        blocked += b.blocks(Ray{q, p - q}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
+        blocked += b.blocks(Ray{p, q - p}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
+        tried += 2;
+    }
+    EXPECT_EQ(tried, 40000);
+    EXPECT_EQ(blocked, 0);
+}
+
 TEST(Bezier, FileErrorsNameTheirLine) {
     const std::string path = testing::TempDir() + "/bad.bpt";
     auto error_of = [&](const std::string& text) {
