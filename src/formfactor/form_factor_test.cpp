@@ -299,7 +299,7 @@ std::pair<double, double> fingerprint(const FormFactors& ff) {
 // balls' box, recorded at 20; 21 only pairs of a ball and a flat patch whose bounding ball
 // reaches into it, and the insides of closed cones, which none of them has; 22 and 23 only flat
 // receivers within a twentieth of a region's size, which none of them has either; 24 only
-// segments that reach or graze a Bezier patch, which none of them has). When
+// segments that reach or graze a Bezier patch or a torus, which none of them has). When
 // one moves, bump kFormFactorAlgorithmVersion (and kHierarchyAlgorithmVersion if the links move
 // too), say so in CHANGELOG.md, and record the new values here.
 TEST(FormFactor, ValuesMoveOnlyWithTheAlgorithmVersion) {

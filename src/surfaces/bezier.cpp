@@ -69,11 +69,10 @@ bool ray_box(const Ray& ray, const Vec3& lo, const Vec3& hi, double t_min, doubl
     return true;
 }
 
-constexpr int kStaticLevels = 5;     // halvings made once, with the patch: 32 x 32 leaves
-constexpr int kMaxDepth = 10;        // halvings below a leaf whose Newton search fails
-constexpr int kBeforeDepth = 3;      // halvings of a cell the segment leaves or reaches the surface in
-constexpr double kSlack = 1e-9;      // a converged (s, t) may lie this far outside its cell
-constexpr double kEndMargin = 1e-6;  // the most of lambda a segment's end can blur (below)
+constexpr int kStaticLevels = 5;  // halvings made once, with the patch: 32 x 32 leaves
+constexpr int kMaxDepth = 10;     // halvings below a leaf whose Newton search fails
+constexpr int kBeforeDepth = 3;   // halvings of a cell the segment leaves or reaches the surface in
+constexpr double kSlack = 1e-9;   // a converged (s, t) may lie this far outside its cell
 
 }  // namespace
 
@@ -231,18 +230,14 @@ BezierSurface::Newton BezierSurface::newton(const Cell& c, const Ray& ray, doubl
     if (!(lambda > t_min)) return inside ? Newton::Before : Newton::None;
     if (!(lambda < t_max)) return inside ? Newton::Beyond : Newton::None;
     const double sc = std::clamp(s, 0.0, 1.0), tc = std::clamp(t, 0.0, 1.0);
-    const double along = glm::dot(unit_normal(sc, tc), ray.dir);
-    // A segment's end on the surface is itself a crossing, known to the rounding of its
-    // coordinates across the surface; along a grazing segment that is a stretch of lambda
-    // beside the end, within which a crossing cannot be told from the end's own.
-    const double blur = 1e-14 * (m_size + glm::length(ray.origin) + std::sqrt(dd));
-    const double margin = std::min(kEndMargin, blur / std::abs(along));
+    const Vec3 n = unit_normal(sc, tc);
+    const double margin = end_margin(ray, n, m_size + glm::length(ray.origin) + std::sqrt(dd));
     if (!(lambda > t_min + margin)) return inside ? Newton::Before : Newton::None;
     if (!(lambda < t_max - margin)) return inside ? Newton::Beyond : Newton::None;
     hit->dist = lambda;
     hit->s = sc;
     hit->t = tc;
-    hit->front = along < 0.0;
+    hit->front = glm::dot(n, ray.dir) < 0.0;
     return inside ? Newton::Hit : Newton::Elsewhere;
 }
 

@@ -184,4 +184,32 @@ TEST(Torus, RingAndSectorMatchClosedForms) {
     EXPECT_NEAR(q->dist, 4.5, 1e-12);
 }
 
+TEST(Torus, AGrazingSegmentToItsOuterHalfIsNotBlockedByIt) {
+    // On the outer half (cos v >= 0) each point's tangent plane supports the whole torus, so a
+    // segment from such a point p to any point q in front of that plane meets the torus at p
+    // alone, which the occlusion test's range (1e-9, 1 - 1e-9) leaves out: never blocked,
+    // however grazing (slopes over the plane from 1e-4, lengths from 1e-3). The quartic's root
+    // at p is found only to the rounding of p's coordinates, which along a grazing segment
+    // reaches inside that range; such a root must be taken as the end (surfaces/surface.h).
+    const TorusSurface ring(Vec3(0.5, -1, 2), glm::normalize(Vec3(1, 2, 2)), 1.0, 0.25, AngleRange{}, false);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), turn(0.0, 2.0 * kPi);
+    int blocked = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double s = unit(rng), t = std::fmod(0.8 + 0.4 * unit(rng), 1.0);  // cos v > 0.3
+        const Vec3 p = ring.point(s, t), n = glm::normalize(ring.normal(s, t));
+        const Vec3 u = unit_across(n), w = glm::cross(n, u);
+        const double phi = turn(rng), slope = std::pow(10.0, -4.0 + 3.0 * unit(rng));
+        const double len = std::pow(10.0, -3.0 + 3.0 * unit(rng));
+        const Vec3 q = p + len * (std::cos(phi) * u + std::sin(phi) * w + slope * n);
+        blocked += ring.blocks(Ray{q, p - q}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
+        blocked += ring.blocks(Ray{p, q - p}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
+    }
+    EXPECT_EQ(blocked, 0);
+    // The margin takes only ends: a segment through the tube still crosses it near its ends.
+    const Vec3 p = ring.point(0.3, 0.0), n = glm::normalize(ring.normal(0.3, 0.0));
+    EXPECT_TRUE(ring.blocks(Ray{p + 1e-3 * n, -2e-3 * n}, 1e-9, 1.0 - 1e-9));
+    EXPECT_FALSE(ring.blocks(Ray{p + 1e-3 * n, -1e-3 * n}, 1e-9, 1.0 - 1e-9));
+}
+
 }  // namespace radiosa
