@@ -211,9 +211,9 @@ TEST(Bezier, AGrazingSegmentToAConvexPatchIsNotBlockedByIt) {
     // above its tangent plane, of length at most tan(theta) / 2 along the plane, stays above
     // the patch (its height over the plane, lambda tan(theta), exceeds the patch's, lambda^2),
     // so a segment between its far end and p meets the patch at p alone, which the occlusion
-    // test's range (1e-9, 1 - 1e-9) leaves out: never blocked, however grazing. Newton's method
-    // accepts a point within 1e-10 of the patch as a crossing, and along a grazing segment
-    // such points reach well inside that range from p: the search must not take them.
+    // test's range (1e-9, 1 - 1e-9) leaves out: never blocked, however grazing. The crossing at
+    // p is found only to the rounding of p's coordinates, which along a grazing segment reaches
+    // inside that range: the search must take such a crossing as the end (surfaces/surface.h).
     const double a[4] = {0.0, 0.0, 1.0 / 3.0, 1.0};
     std::array<Vec3, 16> cp;
     for (int i = 0; i < 4; ++i)
@@ -222,7 +222,7 @@ TEST(Bezier, AGrazingSegmentToAConvexPatchIsNotBlockedByIt) {
     ASSERT_NEAR(b.point(0.3, 0.6).z, 0.45, 1e-15);
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> unit(0.0, 1.0), inner(0.1, 0.9), turn(0.0, 6.283185307179586);
-    int blocked = 0, tried = 0;
+    int blocked = 0;
     for (int k = 0; k < 20000; ++k) {
         const double s = inner(rng), t = inner(rng), phi = turn(rng);
         const double slope = std::pow(10.0, -3.0 + 2.0 * unit(rng));  // tan(theta): 1e-3 to 0.1
@@ -233,9 +233,7 @@ TEST(Bezier, AGrazingSegmentToAConvexPatchIsNotBlockedByIt) {
         const Vec3 q = p + len * Vec3(w.x, w.y, 2.0 * (s * w.x + t * w.y) + slope);
         blocked += b.blocks(Ray{q, p - q}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
         blocked += b.blocks(Ray{p, q - p}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
-        tried += 2;
     }
-    EXPECT_EQ(tried, 40000);
     EXPECT_EQ(blocked, 0);
 }
 

@@ -206,7 +206,8 @@ TEST(Torus, AGrazingSegmentToItsOuterHalfIsNotBlockedByIt) {
         blocked += ring.blocks(Ray{p, q - p}, 1e-9, 1.0 - 1e-9) ? 1 : 0;
     }
     EXPECT_EQ(blocked, 0);
-    // The margin takes only ends: a segment through the tube still crosses it near its ends.
+    // The margin takes only the ends: a segment through the tube still crosses it, one that
+    // stops on it does not.
     const Vec3 p = ring.point(0.3, 0.0), n = glm::normalize(ring.normal(0.3, 0.0));
     EXPECT_TRUE(ring.blocks(Ray{p + 1e-3 * n, -2e-3 * n}, 1e-9, 1.0 - 1e-9));
     EXPECT_FALSE(ring.blocks(Ray{p + 1e-3 * n, -1e-3 * n}, 1e-9, 1.0 - 1e-9));
