@@ -231,7 +231,7 @@ BezierSurface::Newton BezierSurface::newton(const Cell& c, const Ray& ray, doubl
     if (!(lambda < t_max)) return inside ? Newton::Beyond : Newton::None;
     const double sc = std::clamp(s, 0.0, 1.0), tc = std::clamp(t, 0.0, 1.0);
     const Vec3 n = unit_normal(sc, tc);
-    const double margin = end_margin(ray, n, m_size + glm::length(ray.origin) + std::sqrt(dd));
+    const double margin = end_margin(ray, n, m_size);
     if (!(lambda > t_min + margin)) return inside ? Newton::Before : Newton::None;
     if (!(lambda < t_max - margin)) return inside ? Newton::Beyond : Newton::None;
     hit->dist = lambda;

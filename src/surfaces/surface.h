@@ -35,10 +35,11 @@ enum class HitSide { Any, FrontOnly };
 // A segment's end that lies on a surface is a crossing of it, known only to the rounding of the
 // end's coordinates across the surface. Along a segment that grazes the surface there, that
 // rounding spans a stretch of the ray parameter beside the end, within which a crossing cannot
-// be told from the end's own: 1e-14 of `size` (the sum of the surface's extent and the lengths
-// of the ray's origin and direction) over |unit_normal . ray.dir|, at most 1e-6. A crossing
-// closer than this to t_min or t_max is taken as that end, not as a crossing in between.
-inline double end_margin(const Ray& ray, const Vec3& unit_normal, double size) {
+// be told from the end's own: 1e-14 of the coordinates' size (the surface's `extent` plus the
+// lengths of the ray's origin and direction) over |unit_normal . ray.dir|, at most 1e-6. A
+// crossing closer than this to t_min or t_max is taken as that end, not as a crossing in between.
+inline double end_margin(const Ray& ray, const Vec3& unit_normal, double extent) {
+    const double size = extent + glm::length(ray.origin) + glm::length(ray.dir);
     return std::min(1e-6, 1e-14 * size / std::abs(glm::dot(unit_normal, ray.dir)));
 }
 

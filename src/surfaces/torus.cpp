@@ -56,7 +56,7 @@ std::optional<SurfaceHit> TorusSurface::intersect(const Ray& ray, double t_min, 
         const auto s = m_angles.param(phi);
         if (!s) continue;
         const Vec3 out = (rho - m_R) * m_frame.radial(phi) + p.z * m_frame.axis;
-        const double margin = end_margin(ray, glm::normalize(out), reach + glm::length(ray.origin) + len);
+        const double margin = end_margin(ray, glm::normalize(out), reach);
         if (!(dist > t_min + margin && dist < t_max - margin)) continue;  // a segment's end, surface.h
         const bool front = m_orientation * glm::dot(out, ray.dir) < 0.0;
         if (side == HitSide::FrontOnly && !front) continue;
